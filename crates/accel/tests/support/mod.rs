@@ -1,0 +1,226 @@
+//! Shared oracle machinery for the structure tests: real meshes, seeded ray sets, and
+//! brute-force answers computed once and cached on disk under the test target directory,
+//! so every test binary (one per structure) and every later run reuses them.
+#![allow(dead_code)]
+
+use dynray_accel::{intersect_batch, Accel, Brute};
+use dynray_geom::{Hit, Ray, TriangleMesh, Vec3};
+use rand::{rngs::SmallRng, Rng, SeedableRng};
+use std::path::PathBuf;
+
+/// `../shared/scenes` beside the checkout, or `$DYNRAY_SCENES`.
+pub fn scenes_dir() -> PathBuf {
+    if let Ok(d) = std::env::var("DYNRAY_SCENES") {
+        return PathBuf::from(d);
+    }
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/scenes")
+}
+
+/// Loads a model from the scenes directory; panics with a clear message if it is absent
+/// (CI always has it: a missing model is a broken setup, not a reason to skip).
+pub fn load(rel: &str) -> TriangleMesh {
+    let p = scenes_dir().join(rel);
+    dynray_scene::ply::load(&p).unwrap_or_else(|e| panic!("test model missing or unreadable ({e}); set DYNRAY_SCENES"))
+}
+
+pub fn bunny() -> TriangleMesh {
+    load("bunny/bun_zipper.ply")
+}
+
+pub fn dragon_res2() -> TriangleMesh {
+    load("dragon/dragon_vrip_res2.ply.gz")
+}
+
+fn rand_dir(rng: &mut SmallRng) -> Vec3 {
+    loop {
+        let v = Vec3::new(rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0));
+        let l = v.length_squared();
+        if l > 1e-4 && l <= 1.0 {
+            return v / l.sqrt();
+        }
+    }
+}
+
+fn rand_in(rng: &mut SmallRng, lo: Vec3, hi: Vec3) -> Vec3 {
+    Vec3::new(rng.gen_range(lo.x..=hi.x), rng.gen_range(lo.y..=hi.y), rng.gen_range(lo.z..=hi.z))
+}
+
+/// A seeded mix: camera-like rays from outside aimed into the box (40 %), rays from
+/// inside the box in random directions (25 %), axis-parallel rays (10 %), directions
+/// with one or two zero components (10 %), and clipped `[tmin, tmax]` intervals (15 %).
+pub fn random_rays(mesh: &TriangleMesh, n: usize, seed: u64) -> Vec<Ray> {
+    let mut rng = SmallRng::seed_from_u64(seed);
+    let b = mesh.bounds();
+    let (lo, hi, c) = (b.min, b.max, b.center());
+    let diag = b.extent().length();
+    (0..n)
+        .map(|i| match i % 20 {
+            0..=7 => {
+                let o = c + rand_dir(&mut rng) * diag * 1.5;
+                let target = rand_in(&mut rng, lo, hi);
+                Ray::new(o, target - o)
+            }
+            8..=12 => Ray::new(rand_in(&mut rng, lo, hi), rand_dir(&mut rng)),
+            13 | 14 => {
+                let axis = rng.gen_range(0..3);
+                let mut d = Vec3::ZERO;
+                d[axis] = if rng.gen() { 1.0 } else { -1.0 };
+                Ray::new(rand_in(&mut rng, lo, hi), d)
+            }
+            15 | 16 => {
+                let mut d = rand_dir(&mut rng);
+                d[rng.gen_range(0..3)] = 0.0;
+                if rng.gen() {
+                    d[rng.gen_range(0..3)] = 0.0;
+                }
+                let o = if rng.gen() { rand_in(&mut rng, lo, hi) } else { c - d * diag };
+                Ray::new(o, d)
+            }
+            _ => {
+                let o = c + rand_dir(&mut rng) * diag;
+                let d = (rand_in(&mut rng, lo, hi) - o).normalize();
+                let tmin = rng.gen_range(0.0..1.2 * diag);
+                let tmax = tmin + rng.gen_range(0.0..0.8 * diag);
+                Ray::with_interval(o, d, tmin, tmax)
+            }
+        })
+        .collect()
+}
+
+/// Rays that stress the edges of every structure: aimed exactly at vertices and edge
+/// midpoints, starting on a vertex, running along an edge (grazing), with huge and tiny
+/// direction lengths, empty and zero-length intervals.
+pub fn adversarial_rays(mesh: &TriangleMesh, n: usize, seed: u64) -> Vec<Ray> {
+    let mut rng = SmallRng::seed_from_u64(seed);
+    let b = mesh.bounds();
+    let c = b.center();
+    let diag = b.extent().length();
+    let nt = mesh.triangle_count();
+    (0..n)
+        .map(|i| {
+            let tri = mesh.triangle(rng.gen_range(0..nt));
+            let verts = [tri.p0, tri.p1, tri.p2];
+            let v = verts[rng.gen_range(0..3)];
+            let w = verts[rng.gen_range(0..3)];
+            let far = c + rand_dir(&mut rng) * diag * 2.0;
+            match i % 10 {
+                0 => Ray::new(far, v - far),
+                1 => Ray::new(far, (v + w) * 0.5 - far),
+                2 => Ray::new(v, rand_dir(&mut rng)),
+                3 => Ray::new(v, w - v),
+                4 => Ray::new(v - (w - v), w - v),
+                5 => Ray::new(far, (tri.centroid() - far) * 1e-18),
+                6 => Ray::new(far, (tri.centroid() - far) * 1e18),
+                7 => {
+                    let d = tri.centroid() - far;
+                    let t = rng.gen_range(0.5f32..1.0);
+                    Ray::with_interval(far, d, t, t)
+                }
+                8 => Ray::with_interval(far, tri.centroid() - far, 2.0, 1.0),
+                _ => Ray::with_interval(far, tri.centroid() - far, f32::NEG_INFINITY, f32::INFINITY),
+            }
+        })
+        .collect()
+}
+
+fn fnv(h: &mut u64, bytes: &[u8]) {
+    for &b in bytes {
+        *h ^= b as u64;
+        *h = h.wrapping_mul(0x100000001b3);
+    }
+}
+
+fn key(mesh: &TriangleMesh, rays: &[Ray], probe: &[Hit]) -> u64 {
+    let mut h = 0xcbf29ce484222325u64;
+    fnv(&mut h, bytemuck::cast_slice(&mesh.positions));
+    fnv(&mut h, bytemuck::cast_slice(&mesh.indices));
+    for r in rays {
+        for f in [r.origin.x, r.origin.y, r.origin.z, r.dir.x, r.dir.y, r.dir.z, r.tmin, r.tmax] {
+            fnv(&mut h, &f.to_bits().to_le_bytes());
+        }
+    }
+    // A live probe of the current triangle test: a changed test changes the key.
+    for p in probe {
+        fnv(&mut h, &p.t.to_bits().to_le_bytes());
+        fnv(&mut h, &p.prim.to_le_bytes());
+    }
+    h
+}
+
+/// Brute-force closest hits of `rays`, read from the on-disk cache when an earlier test
+/// (of any structure) already computed them for the same mesh, rays and triangle test.
+pub fn brute_hits(mesh: &TriangleMesh, rays: &[Ray]) -> Vec<Hit> {
+    let brute = Brute::build(mesh).expect("oracle mesh");
+    let probe: Vec<Hit> = rays.iter().take(32).map(|r| brute.intersect(r)).collect();
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("oracle-cache");
+    let file = dir.join(format!("{:016x}.bin", key(mesh, rays, &probe)));
+    if let Ok(bytes) = std::fs::read(&file) {
+        if bytes.len() == rays.len() * 16 {
+            return bytes
+                .chunks_exact(16)
+                .map(|c| {
+                    let w = |i: usize| u32::from_le_bytes(c[i * 4..i * 4 + 4].try_into().unwrap());
+                    Hit { t: f32::from_bits(w(0)), u: f32::from_bits(w(1)), v: f32::from_bits(w(2)), prim: w(3) }
+                })
+                .collect();
+        }
+    }
+    let hits = intersect_batch(&brute, rays);
+    let mut bytes = Vec::with_capacity(hits.len() * 16);
+    for h in &hits {
+        for w in [h.t.to_bits(), h.u.to_bits(), h.v.to_bits(), h.prim] {
+            bytes.extend_from_slice(&w.to_le_bytes());
+        }
+    }
+    let _ = std::fs::create_dir_all(&dir);
+    let tmp = file.with_extension(format!("tmp{}", std::process::id()));
+    if std::fs::write(&tmp, &bytes).is_ok() {
+        let _ = std::fs::rename(&tmp, &file);
+    }
+    hits
+}
+
+/// Asserts that `accel` returns exactly the oracle's hit (same `t` bits, same triangle,
+/// same barycentrics) for every ray, and that `occluded` agrees with "has a closest hit".
+pub fn assert_matches_oracle(accel: &dyn Accel, mesh: &TriangleMesh, rays: &[Ray], label: &str) {
+    let want = brute_hits(mesh, rays);
+    let got = intersect_batch(accel, rays);
+    let mut bad = Vec::new();
+    for (i, (g, w)) in got.iter().zip(&want).enumerate() {
+        let same = g.prim == w.prim
+            && g.t.to_bits() == w.t.to_bits()
+            && g.u.to_bits() == w.u.to_bits()
+            && g.v.to_bits() == w.v.to_bits();
+        if !same {
+            bad.push(i);
+        }
+    }
+    let occ = dynray_accel::occluded_batch(accel, rays);
+    let bad_occ: Vec<usize> = (0..rays.len()).filter(|&i| occ[i] != want[i].is_hit()).collect();
+    let hits = want.iter().filter(|h| h.is_hit()).count();
+    let show = |v: &[usize], what: &str| {
+        v.iter()
+            .take(5)
+            .map(|&i| {
+                format!(
+                    "  ray {i} {:?}: {what} got {:?}, brute {:?}",
+                    rays[i],
+                    if what == "hit" { format!("{:?}", got[i]) } else { format!("{}", occ[i]) },
+                    want[i]
+                )
+            })
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    assert!(
+        bad.is_empty() && bad_occ.is_empty(),
+        "{} on {label}: {} of {} rays differ from brute force in closest hit, {} in occluded ({} oracle hits)\n{}\n{}",
+        accel.name(),
+        bad.len(),
+        rays.len(),
+        bad_occ.len(),
+        hits,
+        show(&bad, "hit"),
+        show(&bad_occ, "occluded"),
+    );
+}

@@ -1,0 +1,20 @@
+//! Shared geometry of dynray: rays, hits, boxes, triangle meshes and the one
+//! ray–triangle test every acceleration structure calls.
+//!
+//! Nothing here knows about trees. Because every structure intersects triangles
+//! through [`Triangle::intersect`] with the same [`PreparedRay`], the closest hit of
+//! any structure is bit-identical to brute force (same `t` bits, same triangle).
+#![deny(missing_docs)]
+
+mod aabb;
+mod hit;
+mod mesh;
+mod ray;
+mod triangle;
+
+pub use aabb::Aabb;
+pub use glam::{Vec2, Vec3};
+pub use hit::Hit;
+pub use mesh::{MeshError, TriangleMesh};
+pub use ray::{PreparedRay, Ray};
+pub use triangle::Triangle;

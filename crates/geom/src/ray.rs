@@ -1,0 +1,79 @@
+//! Rays and the per-ray constants the watertight triangle test and the slab test need.
+
+use glam::Vec3;
+
+/// A ray `origin + t * dir` restricted to the closed interval `[tmin, tmax]`.
+///
+/// `dir` need not be normalised; `t` is measured in units of `dir`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ray {
+    /// Start point.
+    pub origin: Vec3,
+    /// Direction (any length, not all zero for a useful ray).
+    pub dir: Vec3,
+    /// Smallest accepted hit distance.
+    pub tmin: f32,
+    /// Largest accepted hit distance (may be `f32::INFINITY`).
+    pub tmax: f32,
+}
+
+impl Ray {
+    /// A ray over `[0, ∞]`.
+    pub fn new(origin: Vec3, dir: Vec3) -> Self {
+        Self { origin, dir, tmin: 0.0, tmax: f32::INFINITY }
+    }
+
+    /// A ray over `[tmin, tmax]`.
+    pub fn with_interval(origin: Vec3, dir: Vec3, tmin: f32, tmax: f32) -> Self {
+        Self { origin, dir, tmin, tmax }
+    }
+
+    /// The point at distance `t`.
+    pub fn at(&self, t: f32) -> Vec3 {
+        self.origin + self.dir * t
+    }
+}
+
+/// A ray with the constants of the watertight test (Woop, Benthin, Wald 2013) and the
+/// reciprocal direction of the slab test, computed once per ray.
+#[derive(Clone, Copy, Debug)]
+pub struct PreparedRay {
+    /// The ray itself.
+    pub ray: Ray,
+    /// `1 / dir` per axis (±∞ for a zero component).
+    pub inv_dir: Vec3,
+    /// Axis permutation: `kz` is the dominant axis of `dir`, `kx`, `ky` the others, swapped
+    /// when `dir[kz] < 0` to keep the triangle winding.
+    pub k: [usize; 3],
+    /// Shear constants `dir[kx]/dir[kz]`, `dir[ky]/dir[kz]`, `1/dir[kz]`.
+    pub shear: Vec3,
+}
+
+impl PreparedRay {
+    /// Computes the per-ray constants.
+    pub fn new(ray: &Ray) -> Self {
+        let d = ray.dir;
+        let a = d.abs();
+        // Dominant axis; ties go to the lower axis so the choice is deterministic.
+        let kz = if a.x >= a.y && a.x >= a.z {
+            0
+        } else if a.y >= a.z {
+            1
+        } else {
+            2
+        };
+        let mut kx = (kz + 1) % 3;
+        let mut ky = (kx + 1) % 3;
+        if d[kz] < 0.0 {
+            std::mem::swap(&mut kx, &mut ky);
+        }
+        let shear = Vec3::new(d[kx] / d[kz], d[ky] / d[kz], 1.0 / d[kz]);
+        Self { ray: *ray, inv_dir: Vec3::ONE / d, k: [kx, ky, kz], shear }
+    }
+}
+
+impl From<&Ray> for PreparedRay {
+    fn from(r: &Ray) -> Self {
+        Self::new(r)
+    }
+}
