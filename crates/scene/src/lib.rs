@@ -2,6 +2,11 @@
 #![deny(missing_docs)]
 
 mod error;
+mod model;
 pub mod ply;
+pub mod shapes;
 
 pub use error::LoadError;
+pub use model::{
+    Actor, Camera, Color, Environment, Finish, Frame, Light, LightKind, Material, Projection, Scene, Settings,
+};

@@ -224,3 +224,17 @@ pub fn assert_matches_oracle(accel: &dyn Accel, mesh: &TriangleMesh, rays: &[Ray
         show(&bad_occ, "occluded"),
     );
 }
+
+/// The standard bunny set every structure is checked on: 100k random + 20k adversarial.
+pub fn bunny_rays(mesh: &TriangleMesh) -> Vec<Ray> {
+    let mut r = random_rays(mesh, 100_000, 1);
+    r.extend(adversarial_rays(mesh, 20_000, 2));
+    r
+}
+
+/// The standard set for the 202k-triangle dragon: 20k random + 5k adversarial.
+pub fn dragon_rays(mesh: &TriangleMesh) -> Vec<Ray> {
+    let mut r = random_rays(mesh, 20_000, 3);
+    r.extend(adversarial_rays(mesh, 5_000, 4));
+    r
+}

@@ -1,0 +1,301 @@
+//! The in-memory scene (seed 003 §2.4): actors with meshes and materials, lights, camera,
+//! render settings and environment. `Scene::frame(t)` flattens it into a [`Frame`].
+
+use dynray_geom::{Aabb, TriangleMesh, Vec3};
+
+/// An RGB colour, linear, components usually in `[0, 1]`.
+pub type Color = Vec3;
+
+/// A surface (the seed's `Surface` class): every factor is a colour, as the seed's
+/// `color × finish` reading gives it (see docs).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material {
+    /// Name, for diagnostics (`""` when anonymous).
+    pub name: String,
+    /// Reflectance for the scene's ambient light.
+    pub ambient: Color,
+    /// Lambertian reflectance.
+    pub diffuse: Color,
+    /// Phong highlight colour (the seed's "spot").
+    pub spot: Color,
+    /// Phong exponent.
+    pub shine: f32,
+    /// Mirror reflection coefficient.
+    pub specular: Color,
+    /// Transmission coefficient.
+    pub transparency: Color,
+    /// Index of refraction of the material.
+    pub ior: f32,
+}
+
+impl Material {
+    /// The seed's reading of `material { color C finish { … } }`: each factor scales `color`.
+    pub fn from_finish(name: impl Into<String>, color: Color, f: &Finish) -> Self {
+        Self {
+            name: name.into(),
+            ambient: color * f.ambient,
+            diffuse: color * f.diffuse,
+            spot: Color::ONE * f.spot,
+            shine: f.shine,
+            specular: Color::ONE * f.specular,
+            transparency: Color::ONE * f.transparency,
+            ior: f.ior,
+        }
+    }
+}
+
+impl Default for Material {
+    /// Matte light grey, as used when a file has no material.
+    fn default() -> Self {
+        Self::from_finish("default", Color::splat(0.8), &Finish::default())
+    }
+}
+
+/// The scalar factors of the scene language's `finish { … }`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Finish {
+    /// Ambient factor.
+    pub ambient: f32,
+    /// Diffuse factor.
+    pub diffuse: f32,
+    /// Highlight factor.
+    pub spot: f32,
+    /// Highlight exponent.
+    pub shine: f32,
+    /// Mirror factor.
+    pub specular: f32,
+    /// Transmission factor.
+    pub transparency: f32,
+    /// Index of refraction.
+    pub ior: f32,
+}
+
+impl Default for Finish {
+    fn default() -> Self {
+        Self { ambient: 0.1, diffuse: 0.9, spot: 0.0, shine: 1.0, specular: 0.0, transparency: 0.0, ior: 1.0 }
+    }
+}
+
+/// Where light comes from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LightKind {
+    /// A point light attenuated by `1 / d^falloff` (falloff 0 = no attenuation).
+    Point {
+        /// Position.
+        position: Vec3,
+        /// Integer attenuation exponent.
+        falloff: i32,
+    },
+    /// Light arriving along `direction` (from the light towards the scene), unattenuated.
+    Directional {
+        /// Direction of travel of the light.
+        direction: Vec3,
+    },
+}
+
+/// A light source.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Light {
+    /// Point or directional.
+    pub kind: LightKind,
+    /// Colour (intensity).
+    pub color: Color,
+}
+
+/// Camera projection.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Projection {
+    /// Perspective with the vertical field of view in degrees.
+    Perspective {
+        /// Vertical field of view, degrees.
+        fov_y_deg: f32,
+    },
+    /// Parallel (orthographic) with the view height in world units.
+    Parallel {
+        /// Height of the view window.
+        height: f32,
+    },
+}
+
+/// A camera: position, look-at point, up vector, projection.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    /// Eye position.
+    pub position: Vec3,
+    /// Point looked at.
+    pub look_at: Vec3,
+    /// Up direction (need not be orthogonal to the view direction).
+    pub up: Vec3,
+    /// Projection.
+    pub projection: Projection,
+}
+
+impl Camera {
+    /// A perspective camera that frames `bounds` (seen from the front-right-above, y up)
+    /// with a 45° vertical field of view.
+    pub fn framing(bounds: &Aabb) -> Self {
+        let c = bounds.center();
+        let radius = (bounds.extent().length() * 0.5).max(1e-3);
+        let fov_y_deg: f32 = 45.0;
+        let dist = radius / (fov_y_deg.to_radians() * 0.5).sin() * 1.05;
+        let dir = Vec3::new(0.35, 0.3, 1.0).normalize();
+        Self { position: c + dir * dist, look_at: c, up: Vec3::Y, projection: Projection::Perspective { fov_y_deg } }
+    }
+}
+
+/// Render settings (the seed's `RayTracerSettings`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Settings {
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// Maximum ray level; 1 = primary rays only (seed 003 §3.7).
+    pub max_recursion_level: u32,
+    /// Secondary rays whose weight falls to this or below are not traced.
+    pub min_weight: f32,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Self { width: 640, height: 480, max_recursion_level: 10, min_weight: 0.01 }
+    }
+}
+
+/// Background, ambient light, and the refractive index of the medium.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Environment {
+    /// Colour of rays that hit nothing.
+    pub background: Color,
+    /// Ambient light.
+    pub ambient: Color,
+    /// Refractive index of the medium the camera is in.
+    pub ior: f32,
+}
+
+impl Default for Environment {
+    fn default() -> Self {
+        Self { background: Color::new(0.05, 0.05, 0.08), ambient: Color::splat(0.2), ior: 1.0 }
+    }
+}
+
+/// A mesh placed in the scene with a material per triangle.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Actor {
+    /// Name, if the source gave one.
+    pub name: Option<String>,
+    /// Geometry, already in world space.
+    pub mesh: TriangleMesh,
+    /// Index into [`Scene::materials`] for each triangle of `mesh`.
+    pub materials: Vec<u32>,
+}
+
+impl Actor {
+    /// An actor whose triangles all use `material`.
+    pub fn new(name: Option<String>, mesh: TriangleMesh, material: u32) -> Self {
+        let materials = vec![material; mesh.triangle_count()];
+        Self { name, mesh, materials }
+    }
+}
+
+/// A whole scene.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Scene {
+    /// Geometry.
+    pub actors: Vec<Actor>,
+    /// Materials referenced by actors.
+    pub materials: Vec<Material>,
+    /// Lights.
+    pub lights: Vec<Light>,
+    /// Camera; `None` frames the scene's bounding box.
+    pub camera: Option<Camera>,
+    /// Render settings.
+    pub settings: Settings,
+    /// Background, ambient, medium.
+    pub environment: Environment,
+}
+
+/// One time step of a scene, flattened for the acceleration structures and integrators.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Frame {
+    /// All actors' triangles, concatenated in actor order (triangle order within each).
+    pub mesh: TriangleMesh,
+    /// Material index per triangle of `mesh`.
+    pub materials_of: Vec<u32>,
+    /// Materials.
+    pub materials: Vec<Material>,
+    /// Lights.
+    pub lights: Vec<Light>,
+    /// The camera (resolved: never absent).
+    pub camera: Camera,
+    /// Render settings.
+    pub settings: Settings,
+    /// Background, ambient, medium.
+    pub environment: Environment,
+}
+
+impl Scene {
+    /// A scene of one mesh with one material, given default camera and light: what a
+    /// bare mesh file becomes.
+    pub fn from_mesh(name: Option<String>, mesh: TriangleMesh, material: Material) -> Self {
+        let mut s = Scene { materials: vec![material], ..Default::default() };
+        s.actors.push(Actor::new(name, mesh, 0));
+        s.add_default_light();
+        s
+    }
+
+    /// Adds a white point light above and in front of the scene when it has none.
+    pub fn add_default_light(&mut self) {
+        if !self.lights.is_empty() {
+            return;
+        }
+        let b = self.bounds();
+        let (c, r) = if b.is_empty() { (Vec3::ZERO, 1.0) } else { (b.center(), b.extent().length().max(1e-3)) };
+        self.lights.push(Light {
+            kind: LightKind::Point { position: c + Vec3::new(0.6, 1.2, 1.0) * r, falloff: 0 },
+            color: Color::ONE,
+        });
+    }
+
+    /// Bounding box of all actors.
+    pub fn bounds(&self) -> Aabb {
+        self.actors.iter().fold(Aabb::EMPTY, |b, a| b.union(&a.mesh.bounds()))
+    }
+
+    /// Number of triangles over all actors.
+    pub fn triangle_count(&self) -> usize {
+        self.actors.iter().map(|a| a.mesh.triangle_count()).sum()
+    }
+
+    /// The scene at time `t` (seconds). Static scenes ignore `t`.
+    pub fn frame(&self, _t: f32) -> Frame {
+        let mut mesh = TriangleMesh::default();
+        let mut materials_of = Vec::with_capacity(self.triangle_count());
+        // Actors without vertex normals get zero normals, which shading reads as "use
+        // the triangle's geometric normal" (seed 003 §3.1), so one mesh can mix both.
+        let any_normals = self.actors.iter().any(|a| a.mesh.normals.is_some());
+        let mut normals = Vec::new();
+        for a in &self.actors {
+            mesh.append(&a.mesh);
+            materials_of.extend_from_slice(&a.materials);
+            if any_normals {
+                match &a.mesh.normals {
+                    Some(n) => normals.extend_from_slice(n),
+                    None => normals.resize(normals.len() + a.mesh.vertex_count(), [0.0; 3]),
+                }
+            }
+        }
+        mesh.normals = any_normals.then_some(normals);
+        let materials = if self.materials.is_empty() { vec![Material::default()] } else { self.materials.clone() };
+        let camera = self.camera.unwrap_or_else(|| Camera::framing(&mesh.bounds()));
+        Frame {
+            mesh,
+            materials_of,
+            materials,
+            lights: self.lights.clone(),
+            camera,
+            settings: self.settings,
+            environment: self.environment,
+        }
+    }
+}
