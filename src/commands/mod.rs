@@ -1,0 +1,41 @@
+//! One module per subcommand; `run` applies the global options and dispatches.
+
+mod info;
+mod render;
+mod trace_rays;
+
+use crate::cli::{Cli, Command};
+use anyhow::{Context, Result};
+use dynray_scene::Scene;
+use std::path::Path;
+
+/// Runs the parsed command line.
+pub fn run(cli: Cli) -> Result<()> {
+    if let Some(n) = cli.threads {
+        anyhow::ensure!(n > 0, "--threads must be at least 1");
+        rayon::ThreadPoolBuilder::new().num_threads(n).build_global().context("cannot start the thread pool")?;
+    }
+    match cli.command {
+        Command::Render(a) => render::run(a),
+        Command::TraceRays(a) => trace_rays::run(a),
+        Command::Info(a) => info::run(a),
+    }
+}
+
+/// Loads any scene or mesh file the engine reads.
+fn load_scene(path: &Path) -> Result<Scene> {
+    Ok(dynray_scene::load_file(path)?)
+}
+
+/// Formats a count with thousands separators (`871,414`).
+fn thousands(n: usize) -> String {
+    let s = n.to_string();
+    let mut out = String::new();
+    for (i, c) in s.chars().enumerate() {
+        if i > 0 && (s.len() - i) % 3 == 0 {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
+}
