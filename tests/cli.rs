@@ -1,0 +1,195 @@
+//! End-to-end tests of the `dynray` binary: real files in, real files out, and every
+//! bad-input path giving one clear message, a non-zero exit and no partial output.
+
+use npyz::WriterBuilder;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn dynray(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_dynray")).args(args).output().expect("run dynray")
+}
+
+fn scenes() -> PathBuf {
+    std::env::var("DYNRAY_SCENES")
+        .map(PathBuf::from)
+        .unwrap_or_else(|_| Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/scenes"))
+}
+
+fn bunny() -> String {
+    scenes().join("bunny/bun_zipper.ply").to_string_lossy().into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Fails with the output shown when the command failed.
+fn ok(o: Output) -> Output {
+    assert!(o.status.success(), "dynray failed: {}\n{}", o.status, stderr(&o));
+    o
+}
+
+/// Asserts a clean failure: exit 1, one `dynray:` message mentioning `needle`, no panic.
+fn fails_with(o: Output, needle: &str) {
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "expected exit 1, got {:?}: {err}", o.status);
+    assert!(err.starts_with("dynray: "), "message should start with `dynray: `: {err}");
+    assert!(err.contains(needle), "message should mention {needle:?}: {err}");
+    assert!(!err.contains("panicked"), "{err}");
+}
+
+fn write_npy(path: &Path, rows: &[[f32; 8]]) {
+    let mut w = npyz::WriteOptions::new()
+        .default_dtype()
+        .shape(&[rows.len() as u64, 8])
+        .writer(std::fs::File::create(path).unwrap())
+        .begin_nd()
+        .unwrap();
+    w.extend(rows.iter().flatten().copied()).unwrap();
+    w.finish().unwrap();
+}
+
+fn read_npz<T: npyz::Deserialize>(path: &Path, name: &str) -> Vec<T> {
+    let mut npz = npyz::npz::NpzArchive::open(path).unwrap();
+    npz.by_name(name).unwrap().unwrap_or_else(|| panic!("no array {name}")).into_vec().unwrap()
+}
+
+fn bunny_rays() -> Vec<[f32; 8]> {
+    // A fan of rays from in front of the bunny towards its box, plus misses and clipped ones.
+    let mut rows = Vec::new();
+    for i in 0..40 {
+        for j in 0..40 {
+            let x = -0.1 + 0.2 * i as f32 / 39.0;
+            let y = 0.03 + 0.16 * j as f32 / 39.0;
+            rows.push([x, y, 1.0, 0.0, 0.0, -1.0, 0.0, f32::INFINITY]);
+        }
+    }
+    rows.push([0.0, 0.1, 1.0, 0.0, 1.0, 0.0, 0.0, f32::INFINITY]); // misses upwards
+    rows.push([-0.02, 0.1, 1.0, 0.0, 0.0, -1.0, 0.0, 0.5]); // clipped before the bunny
+    rows
+}
+
+#[test]
+fn trace_rays_matches_between_bvh_and_brute_and_writes_npz() {
+    let dir = tempfile::tempdir().unwrap();
+    let rays = dir.path().join("rays.npy");
+    write_npy(&rays, &bunny_rays());
+    let mut results = Vec::new();
+    for accel in ["brute", "bvh"] {
+        let out = dir.path().join(format!("{accel}.npz"));
+        ok(dynray(&["trace-rays", &bunny(), "--rays", rays.to_str().unwrap(), "-o", out.to_str().unwrap(), "--accel", accel]));
+        let t: Vec<f32> = read_npz(&out, "t");
+        let prim: Vec<i64> = read_npz(&out, "prim");
+        let u: Vec<f32> = read_npz(&out, "u");
+        let v: Vec<f32> = read_npz(&out, "v");
+        assert_eq!((t.len(), prim.len(), u.len(), v.len()), (1602, 1602, 1602, 1602));
+        let hits = prim.iter().filter(|&&p| p >= 0).count();
+        assert!(hits > 400, "only {hits} hits");
+        assert!(prim[1600] == -1 && t[1600] == f32::INFINITY, "upward ray should miss");
+        assert!(prim[1601] == -1, "clipped ray should miss");
+        assert!(prim.iter().all(|&p| p >= -1 && p < 69_451));
+        results.push((t.iter().map(|x| x.to_bits()).collect::<Vec<_>>(), prim));
+    }
+    assert_eq!(results[0], results[1], "bvh and brute disagree");
+}
+
+#[test]
+fn trace_rays_occluded_agrees_with_hits() {
+    let dir = tempfile::tempdir().unwrap();
+    let rays = dir.path().join("rays.npy");
+    write_npy(&rays, &bunny_rays());
+    let hits = dir.path().join("h.npz");
+    let occ = dir.path().join("o.npz");
+    let r = rays.to_str().unwrap();
+    ok(dynray(&["trace-rays", &bunny(), "--rays", r, "-o", hits.to_str().unwrap()]));
+    ok(dynray(&["trace-rays", &bunny(), "--rays", r, "-o", occ.to_str().unwrap(), "--occluded"]));
+    let prim: Vec<i64> = read_npz(&hits, "prim");
+    let o: Vec<bool> = read_npz(&occ, "occluded");
+    assert_eq!(prim.iter().map(|&p| p >= 0).collect::<Vec<_>>(), o);
+}
+
+#[test]
+fn info_reports_counts_and_structure() {
+    let o = ok(dynray(&["info", &bunny()]));
+    let out = String::from_utf8_lossy(&o.stdout);
+    for needle in ["triangles   69,451", "vertices    35,947", "structure   bvh", "memory", "max depth", "SAH cost"] {
+        assert!(out.contains(needle), "missing {needle:?} in:\n{out}");
+    }
+}
+
+#[test]
+fn missing_file_is_a_clean_error() {
+    fails_with(dynray(&["info", "/nonexistent/model.ply"]), "/nonexistent/model.ply");
+}
+
+#[test]
+fn unknown_extension_is_a_clean_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("model.xyz");
+    std::fs::write(&p, "1 2 3\n").unwrap();
+    fails_with(dynray(&["info", p.to_str().unwrap()]), "model.xyz");
+}
+
+#[test]
+fn truncated_ply_names_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("cut.ply");
+    std::fs::write(&p, "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n").unwrap();
+    fails_with(dynray(&["info", p.to_str().unwrap()]), "cut.ply");
+}
+
+#[test]
+fn malformed_npy_is_a_clean_error_and_leaves_no_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let rays = dir.path().join("bad.npy");
+    std::fs::write(&rays, b"\x93NUMPY garbage").unwrap();
+    let out = dir.path().join("hits.npz");
+    fails_with(
+        dynray(&["trace-rays", &bunny(), "--rays", rays.to_str().unwrap(), "-o", out.to_str().unwrap()]),
+        "bad.npy",
+    );
+    assert!(!out.exists());
+}
+
+#[test]
+fn wrong_ray_shape_is_rejected() {
+    let dir = tempfile::tempdir().unwrap();
+    let rays = dir.path().join("six.npy");
+    let mut w = npyz::WriteOptions::new()
+        .default_dtype()
+        .shape(&[2, 6])
+        .writer(std::fs::File::create(&rays).unwrap())
+        .begin_nd()
+        .unwrap();
+    w.extend([0.0f32; 12]).unwrap();
+    w.finish().unwrap();
+    let out = dir.path().join("hits.npz");
+    fails_with(dynray(&["trace-rays", &bunny(), "--rays", rays.to_str().unwrap(), "-o", out.to_str().unwrap()]), "(N, 8)");
+}
+
+#[test]
+fn nan_ray_is_rejected_with_its_row() {
+    let dir = tempfile::tempdir().unwrap();
+    let rays = dir.path().join("nan.npy");
+    write_npy(&rays, &[[0.0; 8], [f32::NAN, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]]);
+    let out = dir.path().join("hits.npz");
+    fails_with(dynray(&["trace-rays", &bunny(), "--rays", rays.to_str().unwrap(), "-o", out.to_str().unwrap()]), "ray 1");
+}
+
+#[test]
+fn unwritable_output_is_a_clean_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let rays = dir.path().join("rays.npy");
+    write_npy(&rays, &bunny_rays());
+    fails_with(
+        dynray(&["trace-rays", &bunny(), "--rays", rays.to_str().unwrap(), "-o", "/nonexistent-dir/hits.npz"]),
+        "/nonexistent-dir/hits.npz",
+    );
+}
+
+#[test]
+fn unknown_structure_is_a_usage_error() {
+    let o = dynray(&["info", &bunny(), "--accel", "nope"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("unknown structure"), "{}", stderr(&o));
+}
