@@ -45,8 +45,11 @@ pub struct PreparedRay {
     /// Axis permutation: `kz` is the dominant axis of `dir`, `kx`, `ky` the others, swapped
     /// when `dir[kz] < 0` to keep the triangle winding.
     pub k: [usize; 3],
-    /// Shear constants `dir[kx]/dir[kz]`, `dir[ky]/dir[kz]`, `1/dir[kz]`.
-    pub shear: Vec3,
+    /// Shear constants `dir[kx]/dir[kz]`, `dir[ky]/dir[kz]`, `1/dir[kz]`, in f64 like
+    /// the whole triangle test.
+    pub shear: [f64; 3],
+    /// The origin permuted to `(kx, ky, kz)`, in f64.
+    pub origin64: [f64; 3],
 }
 
 impl PreparedRay {
@@ -67,8 +70,11 @@ impl PreparedRay {
         if d[kz] < 0.0 {
             std::mem::swap(&mut kx, &mut ky);
         }
-        let shear = Vec3::new(d[kx] / d[kz], d[ky] / d[kz], 1.0 / d[kz]);
-        Self { ray: *ray, inv_dir: Vec3::ONE / d, k: [kx, ky, kz], shear }
+        let (dx, dy, dz) = (d[kx] as f64, d[ky] as f64, d[kz] as f64);
+        let shear = [dx / dz, dy / dz, 1.0 / dz];
+        let o = ray.origin;
+        let origin64 = [o[kx] as f64, o[ky] as f64, o[kz] as f64];
+        Self { ray: *ray, inv_dir: Vec3::ONE / d, k: [kx, ky, kz], shear, origin64 }
     }
 }
 

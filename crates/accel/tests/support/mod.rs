@@ -156,7 +156,7 @@ pub fn brute_hits(mesh: &TriangleMesh, rays: &[Ray]) -> Vec<Hit> {
     let _guard = COMPUTING.lock().unwrap_or_else(|e| e.into_inner());
     let brute = Brute::build(mesh).expect("oracle mesh");
     let probe: Vec<Hit> = rays.iter().take(32).map(|r| brute.intersect(r)).collect();
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("oracle-cache");
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("oracle-cache-v2");
     let file = dir.join(format!("{:016x}.bin", key(mesh, rays, &probe)));
     if let Ok(bytes) = std::fs::read(&file) {
         if bytes.len() == rays.len() * 16 {
