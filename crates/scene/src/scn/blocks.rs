@@ -197,10 +197,9 @@ impl Parser<'_> {
         Ok(s)
     }
 
-    /// `material { color C [finish { … }] }` or `material name`; the keyword is the
-    /// current token. `color × finish` follows [`Material::from_finish`].
+    /// `material { color C [finish { … }] }` or `material name`; the keyword is already
+    /// consumed. `color × finish` follows [`Material::from_finish`].
     pub(crate) fn material(&mut self) -> R<Rc<Material>> {
-        self.bump();
         if let Some(named) = self.named("a material", |d| match d {
             Def::Material(m) => Some(m.clone()),
             _ => None,

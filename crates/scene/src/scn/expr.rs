@@ -86,7 +86,7 @@ impl Parser<'_> {
             Tok::Punct('-') => {
                 self.bump();
                 let (v, s) = self.factor()?;
-                Ok((v.neg(), start.start..s.end))
+                Ok((-v, start.start..s.end))
             }
             Tok::Punct('<') => {
                 self.bump();
@@ -128,6 +128,9 @@ impl Parser<'_> {
     pub(crate) fn real(&mut self, what: &str) -> R<f64> {
         let (v, span) = self.expr()?;
         match v {
+            Value::Real(x) if !x.is_finite() => Err(self
+                .err(span, format!("{what} evaluates to {x}"))
+                .label("expected a finite number (an operation overflowed)")),
             Value::Real(x) => Ok(x),
             other => Err(self
                 .err(span, format!("type mismatch: {what} must be a real, found a {}", other.type_name()))
@@ -140,7 +143,7 @@ impl Parser<'_> {
         let start = self.span().start;
         let x = self.real(what)?;
         let span = start..self.prev_end();
-        if !(x.abs() <= f32::MAX as f64) || !ok(x) {
+        if !x.is_finite() || x.abs() > f32::MAX as f64 || !ok(x) {
             return Err(self.err(span, format!("{what} is {x}, but {rule}")).label(format!("expected {rule}")));
         }
         Ok(x as f32)
@@ -175,10 +178,7 @@ impl Parser<'_> {
 
     /// An expression that must be a vector, kept in `f64` (transforms compose in `f64`).
     pub(crate) fn vector64(&mut self, what: &str) -> R<DVec3> {
-        let start = self.span().start;
-        let v = self.vector(what)?;
-        let _ = start;
-        Ok(v.as_dvec3())
+        Ok(self.vector(what)?.as_dvec3())
     }
 
     /// An expression that must be a colour.
@@ -193,7 +193,7 @@ impl Parser<'_> {
     }
 
     fn finite(&self, x: DVec3, span: Span, what: &str) -> R<Vec3> {
-        if x.abs().max_element() <= f32::MAX as f64 {
+        if x.is_finite() && x.abs().max_element() <= f32::MAX as f64 {
             Ok(x.as_vec3())
         } else {
             Err(self.err(span, format!("{what} {x} is too large for single precision")).label("out of range"))

@@ -135,9 +135,11 @@ impl Parser<'_> {
                     .also(self.file, first, "first given here"));
             }
             *material_at = Some(span);
+            self.bump();
             let m = self.material()?;
             obj.set_material(&m);
         } else {
+            self.bump();
             let m = self.transform()?;
             obj.transform(m);
         }

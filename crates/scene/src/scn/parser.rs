@@ -361,11 +361,15 @@ impl<'s> Parser<'s> {
             Tok::Name(w) if w == "light" => Def::Light(self.light()?),
             Tok::Name(w) if w == "camera" => Def::Camera(self.camera()?),
             Tok::Name(w) if w == "material" => {
+                self.bump();
                 let mut m = (*self.material()?).clone();
                 m.name = name.clone();
                 Def::Material(Rc::new(m))
             }
-            Tok::Name(w) if w == "transform" => Def::Transform(self.transform()?),
+            Tok::Name(w) if w == "transform" => {
+                self.bump();
+                Def::Transform(self.transform()?)
+            }
             _ => Def::Value(self.expr()?.0),
         };
         // A later definition of the same name replaces the earlier one from here on (as

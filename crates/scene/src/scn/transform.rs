@@ -20,11 +20,10 @@ pub fn scale_about(base: DVec3, factors: DVec3) -> DMat4 {
 }
 
 impl Parser<'_> {
-    /// `transform { op* }` or `transform name`; the keyword is the current token. The
+    /// `transform { op* }` or `transform name`; the keyword is already consumed. The
     /// result maps object points to world points: the first operation written is the first
     /// applied.
     pub(crate) fn transform(&mut self) -> R<DMat4> {
-        self.bump();
         if let Some(named) = self.named("a transform", |d| match d {
             Def::Transform(m) => Some(*m),
             _ => None,

@@ -48,16 +48,22 @@ impl Value {
             Value::Color(_) => "colour",
         }
     }
+}
 
-    /// `-self`.
-    pub fn neg(self) -> Value {
+impl std::ops::Neg for Value {
+    type Output = Value;
+
+    /// Negates every component.
+    fn neg(self) -> Value {
         match self {
             Value::Real(a) => Value::Real(-a),
             Value::Vector(a) => Value::Vector(-a),
             Value::Color(a) => Value::Color(-a),
         }
     }
+}
 
+impl Value {
     /// Applies `op`, or says why the operand types do not fit.
     ///
     /// Allowed: real ∘ real; vector ± vector; colour ± colour; real × vector,
