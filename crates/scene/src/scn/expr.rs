@@ -129,7 +129,7 @@ impl Parser<'_> {
         let (v, span) = self.expr()?;
         match v {
             Value::Real(x) if !x.is_finite() => Err(self
-                .err(span, format!("{what} evaluates to {x}"))
+                .err(span, format!("{what} evaluates to {x}, not a finite number"))
                 .label("expected a finite number (an operation overflowed)")),
             Value::Real(x) => Ok(x),
             other => Err(self
