@@ -398,11 +398,8 @@ fn transforms_apply_in_written_order() {
 
 #[test]
 fn named_transform() {
-    let s = parse(
-        &format!("define up transform {{ translate <0,5,0> }} object {{ t transform up }}")
-            .replace("t transform", "tri transform")
-            .replace("define up", &format!("define tri {TRI} define up")),
-    );
+    let s =
+        parse(&format!("define tri {TRI} define up transform {{ translate <0,5,0> }} object {{ tri transform up }}"));
     assert_eq!(positions(&s, 0)[0], v(0., 5., 0.));
 }
 
