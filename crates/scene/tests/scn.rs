@@ -898,3 +898,22 @@ fn example_bunny_with_included_materials() {
     assert!(b.min.y.abs() < 0.01, "the bunny sits on the floor: {b:?}");
     assert_eq!(s.materials[s.actors[0].materials[0] as usize].name, "glossy_brick");
 }
+
+/// Every ```scn block of the reference parses on its own (includes resolve from
+/// `examples/`), so the documentation cannot drift from the parser.
+#[test]
+fn reference_examples_parse() {
+    let doc =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../../docs/scene-language.md")).unwrap();
+    let mut blocks = 0;
+    let mut rest = doc.as_str();
+    while let Some(start) = rest.find("```scn\n") {
+        let body = &rest[start + 7..];
+        let end = body.find("```").expect("closed block");
+        let text = &body[..end];
+        parse_scn_str("doc.scn", text, &examples_dir()).unwrap_or_else(|e| panic!("doc example fails:\n{text}\n{e}"));
+        blocks += 1;
+        rest = &body[end + 3..];
+    }
+    assert!(blocks >= 14, "only {blocks} examples found");
+}
