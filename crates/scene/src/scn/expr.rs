@@ -10,14 +10,9 @@ use glam::{DVec3, Vec3};
 
 impl Parser<'_> {
     /// `Expressão: Termo (('+' | '-') Termo)*`.
+    /// Recursion goes through [`Self::factor`] only (parentheses, signs, vector and
+    /// colour components), so the nesting bound is counted there.
     pub(crate) fn expr(&mut self) -> R<(Value, Span)> {
-        self.enter()?;
-        let r = self.expr_inner();
-        self.leave();
-        r
-    }
-
-    fn expr_inner(&mut self) -> R<(Value, Span)> {
         let (mut v, mut span) = self.term()?;
         loop {
             let op = match self.peek() {
