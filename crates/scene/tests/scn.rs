@@ -423,6 +423,16 @@ fn define_values_with_and_without_equals() {
 }
 
 #[test]
+fn define_can_alias_any_definition() {
+    let s = parse(
+        "define bola sphere { center <0,0,0> radius 1 } define ball = bola object ball
+         define m material { color rgb(1,0,0) } define m2 m sphere { center <0,0,0> radius 1 material m2 }",
+    );
+    assert_eq!(s.actors.len(), 2);
+    assert_eq!(s.materials[s.actors[1].materials[0] as usize].name, "m");
+}
+
+#[test]
 fn redefinition_replaces_from_then_on() {
     let s = parse("define r = 1 sphere { center <0,0,0> radius r } define r = 3 sphere { center <0,0,0> radius r }");
     assert!((s.actors[0].mesh.bounds().max.x - 1.0).abs() < 1e-5);
@@ -473,6 +483,10 @@ fn type_mismatches_are_reported() {
 fn names_are_resolved_and_checked() {
     let (_, _, msg, _) = fail("sphere { center origin radius 1 }");
     assert!(msg.contains("unknown name `origin`"), "{msg}");
+    let (_, _, _, rendered) = fail("define bola sphere { center <0,0,0> radius 1 } object bolla");
+    assert!(rendered.contains("did you mean `bola`?"), "{rendered}");
+    let (_, _, _, rendered) = fail("shpere { center <0,0,0> radius 1 }");
+    assert!(rendered.contains("did you mean `sphere`?"), "{rendered}");
     let (_, _, msg, rendered) = fail("define m material { color rgb(1,1,1) }\nsphere { center m radius 1 }");
     assert!(msg.contains("`m` is a material, not a value"), "{msg}");
     assert!(rendered.contains("defined here"), "{rendered}");
@@ -594,6 +608,7 @@ fn unknown_duplicated_and_missing_parameters() {
     assert_eq!(col, 10);
     assert!(msg.contains("unknown parameter `centre` in `sphere`"), "{msg}");
     assert!(rendered.contains("expected one of: center, radius, material, transform"), "{rendered}");
+    assert!(rendered.contains("did you mean `center`?"), "{rendered}");
     let (_, col, msg, rendered) = fail("sphere { center <0,0,0> radius 1 radius 2 }");
     assert_eq!(col, 34);
     assert!(msg.contains("duplicated parameter `radius` in `sphere`"), "{msg}");

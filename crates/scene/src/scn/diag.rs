@@ -102,3 +102,39 @@ impl Diag {
         LoadError::Scene { path, line, column, message: self.message, rendered }
     }
 }
+
+/// The candidate closest to `word` by edit distance, if it is close enough to be a typo
+/// (at most one edit per three characters, and at least one).
+pub(crate) fn did_you_mean<'a>(word: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
+    let limit = (word.chars().count() / 3).max(1);
+    candidates.into_iter().map(|c| (edit_distance(word, c), c)).filter(|&(d, _)| d <= limit).min().map(|(_, c)| c)
+}
+
+/// Levenshtein distance over characters.
+fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut prev = row[0];
+        row[0] = i + 1;
+        for (j, &cb) in b.iter().enumerate() {
+            let cur = row[j + 1];
+            row[j + 1] = (prev + usize::from(ca != cb)).min(row[j] + 1).min(cur + 1);
+            prev = cur;
+        }
+    }
+    row[b.len()]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn suggestions_catch_typos_only() {
+        assert_eq!(did_you_mean("centre", ["center", "radius"]), Some("center"));
+        assert_eq!(did_you_mean("radus", ["center", "radius"]), Some("radius"));
+        assert_eq!(did_you_mean("xyz", ["center", "radius"]), None);
+        assert_eq!(edit_distance("kitten", "sitting"), 3);
+    }
+}

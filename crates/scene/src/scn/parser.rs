@@ -3,7 +3,7 @@
 //! `include`. Like the seed's `SceneReader`, it evaluates as it parses: expressions become
 //! values and definitions become entries of [`State`] immediately.
 
-use super::diag::{Diag, FileId, Sources};
+use super::diag::{did_you_mean, Diag, FileId, Sources};
 use super::lexer::{tokenize, Tok, Token};
 use super::objects::Object;
 use super::value::Value;
@@ -232,9 +232,13 @@ impl<'s> Parser<'s> {
                 _ => return Err(self.expected(&format!("a parameter of `{what}` ({list}) or `}}`"))),
             };
             if !allowed.contains(&key.as_str()) {
-                return Err(self
+                let mut d = self
                     .err(span, format!("unknown parameter `{key}` in `{what}`"))
-                    .label(format!("expected one of: {list}")));
+                    .label(format!("expected one of: {list}"));
+                if let Some(s) = did_you_mean(&key, allowed.iter().copied()) {
+                    d = d.note(format!("did you mean `{s}`?"));
+                }
+                return Err(d);
             }
             if !repeatable.contains(&key.as_str()) {
                 if let Some((_, first)) = seen.iter().find(|(k, _)| *k == key) {
@@ -320,7 +324,15 @@ impl<'s> Parser<'s> {
     }
 
     fn statement_expected(&self) -> Diag {
-        self.expected("a statement (mesh, box, sphere, object, light, camera, environment, settings, define, include)")
+        let d = self
+            .expected("a statement (mesh, box, sphere, object, light, camera, environment, settings, define, include)");
+        match self.peek() {
+            Tok::Name(n) => match did_you_mean(n, KEYWORDS.iter().copied()) {
+                Some(s) => d.note(format!("did you mean `{s}`?")),
+                None => d,
+            },
+            _ => d,
+        }
     }
 
     /// Fails if the statement kind behind `slot` (camera, environment, settings) was
@@ -370,6 +382,11 @@ impl<'s> Parser<'s> {
                 self.bump();
                 Def::Transform(self.transform()?)
             }
+            // `define b = bola`: another name for any kind of definition.
+            Tok::Name(w) if self.aliasable(w) => {
+                let (other, _) = self.name("a name")?;
+                self.st.defs[&other].def.clone()
+            }
             _ => Def::Value(self.expr()?.0),
         };
         // A later definition of the same name replaces the earlier one from here on (as
@@ -378,10 +395,23 @@ impl<'s> Parser<'s> {
         Ok(())
     }
 
+    /// Whether `define x = w …` copies the definition `w` (an object, light, camera,
+    /// material or transform) rather than evaluating an expression.
+    fn aliasable(&self, w: &str) -> bool {
+        matches!(self.st.defs.get(w), Some(b) if !matches!(b.def, Def::Value(_)))
+    }
+
     /// Looks up `name` (at `span`) and checks it is `kind` with `pick`.
     pub(crate) fn lookup<T>(&self, name: &str, span: Span, kind: &str, pick: impl Fn(&Def) -> Option<T>) -> R<T> {
         match self.st.defs.get(name) {
-            None => Err(self.err(span, format!("unknown name `{name}`")).label(format!("expected the name of {kind}"))),
+            None => {
+                let mut d =
+                    self.err(span, format!("unknown name `{name}`")).label(format!("expected the name of {kind}"));
+                if let Some(s) = did_you_mean(name, self.st.defs.keys().map(String::as_str)) {
+                    d = d.note(format!("did you mean `{s}`?"));
+                }
+                Err(d)
+            }
             Some(b) => pick(&b.def).ok_or_else(|| {
                 self.err(span, format!("`{name}` is {}, not {kind}", b.def.kind()))
                     .label(format!("expected {kind}"))
