@@ -38,6 +38,22 @@ pub enum LoadError {
         /// What is wrong with the mesh.
         source: MeshError,
     },
+    /// A scene-language (`.scn`) file has a lexical, syntax, type, name-resolution or
+    /// file error. `rendered` is the full report (`file:line:col`, the source line with a
+    /// caret under the offending text, what was expected) and is what `Display` prints.
+    #[error("{rendered}")]
+    Scene {
+        /// The file the error is in (an included file when the error is there).
+        path: PathBuf,
+        /// 1-based line of the error.
+        line: usize,
+        /// 1-based column (in characters) of the error.
+        column: usize,
+        /// The one-line message, without location.
+        message: String,
+        /// The rendered diagnostic.
+        rendered: String,
+    },
 }
 
 impl LoadError {

@@ -4,9 +4,11 @@
 mod error;
 mod model;
 pub mod ply;
+pub mod scn;
 pub mod shapes;
 
 pub use error::LoadError;
 pub use model::{
     Actor, Camera, Color, Environment, Finish, Frame, Light, LightKind, Material, Projection, Scene, Settings,
 };
+pub use scn::{load_scn, parse_scn_str};

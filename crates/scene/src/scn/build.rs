@@ -1,0 +1,91 @@
+//! The last step: the parsed actors become a [`Scene`]. Spheres are tessellated here,
+//! once the final `sphere_detail` (or the image size it is derived from) is known;
+//! transforms are applied; materials are shared between actors that use the same one.
+
+use super::diag::Diag;
+use super::objects::Shape;
+use super::parser::State;
+use crate::shapes::uv_sphere;
+use crate::{Actor, Material, Scene, Settings};
+use dynray_geom::TriangleMesh;
+use glam::DMat4;
+use std::collections::HashMap;
+use std::rc::Rc;
+
+/// Fewest longitude segments `sphere_detail` accepts.
+pub const MIN_SPHERE_DETAIL: u32 = 8;
+
+/// Most longitude segments `sphere_detail` accepts (a sphere then has ~8 M triangles).
+pub const MAX_SPHERE_DETAIL: u32 = 4096;
+
+/// Largest deviation, in pixels, of a tessellated sphere's silhouette from the true
+/// circle when the sphere fills the image (the worst case the automatic detail plans for).
+pub const SILHOUETTE_TOLERANCE_PX: f64 = 0.25;
+
+/// Longitude segments for spheres when `settings` gives no `sphere_detail`: a polygon
+/// with `n` sides around a circle of radius `r` pixels strays `r (1 - cos(π/n))` from it,
+/// so `n` is the smallest count keeping that under [`SILHOUETTE_TOLERANCE_PX`] for a
+/// sphere as large as the image (radius = half the larger side). 640×480 gives 80.
+pub fn auto_sphere_detail(settings: &Settings) -> u32 {
+    let r = (settings.width.max(settings.height) as f64 * 0.5).max(1.0);
+    let n = (std::f64::consts::PI / (1.0 - SILHOUETTE_TOLERANCE_PX / r).max(-1.0).acos()).ceil();
+    let n = (n as u32).clamp(MIN_SPHERE_DETAIL, MAX_SPHERE_DETAIL);
+    n + n % 2
+}
+
+/// Builds the scene from everything read.
+pub(crate) fn build(st: State) -> Result<Scene, Diag> {
+    let settings = st.settings.as_ref().map(|s| s.0).unwrap_or_default();
+    let slices = st.sphere_detail.unwrap_or_else(|| auto_sphere_detail(&settings));
+    let mut scene = Scene {
+        settings,
+        environment: st.environment.as_ref().map(|e| e.0).unwrap_or_default(),
+        camera: st.camera.as_ref().map(|c| c.0),
+        lights: st.lights.clone(),
+        ..Default::default()
+    };
+    let mut index_of: HashMap<*const Material, u32> = HashMap::new();
+    let mut default_index = None;
+    for entry in st.actors {
+        let mut mesh = TriangleMesh::default();
+        let mut materials = Vec::new();
+        let mut parts = Vec::with_capacity(entry.object.parts.len());
+        for part in &entry.object.parts {
+            let mut m = match &part.shape {
+                Shape::Mesh(m) => (**m).clone(),
+                Shape::Sphere { center, radius } => uv_sphere(*center, *radius, slices / 2, slices),
+            };
+            if part.transform != DMat4::IDENTITY {
+                m.transform(&part.transform.as_mat4());
+            }
+            let id = match &part.material {
+                Some(mat) => *index_of.entry(Rc::as_ptr(mat)).or_insert_with(|| {
+                    scene.materials.push((**mat).clone());
+                    scene.materials.len() as u32 - 1
+                }),
+                None => *default_index.get_or_insert_with(|| {
+                    scene.materials.push(Material::default());
+                    scene.materials.len() as u32 - 1
+                }),
+            };
+            parts.push((m, id));
+        }
+        // Parts of one object keep their vertex normals only if all have them (a mesh
+        // file's parts always agree); otherwise the flat normal is used throughout.
+        let all_normals = parts.iter().all(|(m, _)| m.normals.is_some());
+        for (mut m, id) in parts {
+            if !all_normals {
+                m.normals = None;
+            }
+            materials.extend(std::iter::repeat_n(id, m.triangle_count()));
+            mesh.append(&m);
+        }
+        if let Err(e) = mesh.validate() {
+            return Err(Diag::new(entry.file, entry.span, format!("this object's geometry is unusable: {e}"))
+                .label("placed here")
+                .note("a transform may have pushed coordinates beyond single precision"));
+        }
+        scene.actors.push(Actor { name: entry.name, mesh, materials });
+    }
+    Ok(scene)
+}

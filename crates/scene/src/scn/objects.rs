@@ -1,0 +1,450 @@
+//! Models and actors (seed 003 A.2): `mesh`, `box`, `sphere`, `object name`,
+//! `object { name modifiers }`, and the modifiers (`material`, `transform`) they share.
+//!
+//! An object is a list of parts (a mesh file with several materials gives several), each
+//! with its shape, its accumulated transform and its material. Spheres stay analytic
+//! (centre, radius) until the whole file is read, so that `settings { sphere_detail }`
+//! applies to every sphere wherever it is written; see `build.rs`.
+
+use super::mesh_file::load_mesh_file;
+use super::parser::{Def, Parser, Span, R};
+use crate::shapes::cuboid;
+use crate::Material;
+use dynray_geom::TriangleMesh;
+use glam::{DMat4, Vec3};
+use std::collections::HashMap;
+use std::rc::Rc;
+
+/// Geometry of a part before its transform.
+#[derive(Clone, Debug)]
+pub(crate) enum Shape {
+    /// Triangles (inline mesh, box, mesh file). Shared between instances.
+    Mesh(Rc<TriangleMesh>),
+    /// A sphere, tessellated when the scene is built.
+    Sphere {
+        /// Centre.
+        center: Vec3,
+        /// Radius (> 0).
+        radius: f32,
+    },
+}
+
+/// One piece of an object.
+#[derive(Clone, Debug)]
+pub(crate) struct Part {
+    pub shape: Shape,
+    /// Object-to-world transform, applied to the shape's points.
+    pub transform: DMat4,
+    /// `None`: the scene's default material.
+    pub material: Option<Rc<Material>>,
+}
+
+/// A model: what `define name sphere { … }` names and what an actor places.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Object {
+    pub parts: Vec<Part>,
+}
+
+impl Object {
+    fn single(shape: Shape) -> Self {
+        Object { parts: vec![Part { shape, transform: DMat4::IDENTITY, material: None }] }
+    }
+
+    /// Applies `m` after the transforms already there.
+    fn transform(&mut self, m: DMat4) {
+        for p in &mut self.parts {
+            p.transform = m * p.transform;
+        }
+    }
+
+    /// Gives every part `m`, replacing what the parts had.
+    fn set_material(&mut self, m: &Rc<Material>) {
+        for p in &mut self.parts {
+            p.material = Some(m.clone());
+        }
+    }
+
+    /// Names the anonymous materials of a defined object after it (diagnostics only).
+    pub(crate) fn name_materials(&mut self, name: &str) {
+        for p in &mut self.parts {
+            if let Some(m) = &mut p.material {
+                if m.name.is_empty() {
+                    Rc::make_mut(m).name = name.to_string();
+                }
+            }
+        }
+    }
+}
+
+impl Parser<'_> {
+    /// `Objeto`: a primitive, `object name` or `object { name modifiers }`. Returns the
+    /// actor name (`Some` for the named forms) and the object.
+    pub(crate) fn object(&mut self) -> R<(Option<String>, Object)> {
+        let (word, _) = self.name("an object")?;
+        match word.as_str() {
+            "mesh" => Ok((None, self.mesh()?)),
+            "box" => Ok((None, self.boxx()?)),
+            "sphere" => Ok((None, self.sphere()?)),
+            "object" if self.at('{') => {
+                self.bump();
+                let (name, span) = self.name("the name of a defined object")?;
+                let mut obj = self.object_named(&name, span)?;
+                self.modifiers_until_close(&mut obj, "object")?;
+                Ok((Some(name), obj))
+            }
+            "object" => {
+                let (name, span) = self.name("the name of a defined object, or `{`")?;
+                Ok((Some(name.clone()), self.object_named(&name, span)?))
+            }
+            _ => unreachable!("callers dispatch only mesh, box, sphere and object here"),
+        }
+    }
+
+    fn object_named(&self, name: &str, span: Span) -> R<Object> {
+        let rc = self.lookup(name, span, "an object", |d| match d {
+            Def::Object(o) => Some(o.clone()),
+            _ => None,
+        })?;
+        Ok((*rc).clone())
+    }
+
+    /// `Modificador_De_Objeto*` then `}` (the `{` and name already read).
+    fn modifiers_until_close(&mut self, obj: &mut Object, what: &str) -> R<()> {
+        let mut material_at: Option<Span> = None;
+        loop {
+            if self.at('}') {
+                self.bump();
+                return Ok(());
+            }
+            if self.at_word("material") || self.at_word("transform") {
+                self.modifier(obj, what, &mut material_at)?;
+            } else {
+                return Err(self.expected(&format!("`material`, `transform` or `}}` to close `{what}`")));
+            }
+        }
+    }
+
+    /// One modifier; the keyword is the current token.
+    fn modifier(&mut self, obj: &mut Object, what: &str, material_at: &mut Option<Span>) -> R<()> {
+        let span = self.span();
+        if self.at_word("material") {
+            if let Some(first) = material_at.clone() {
+                return Err(self
+                    .err(span, format!("duplicated parameter `material` in `{what}`"))
+                    .label("given again here")
+                    .also(self.file, first, "first given here"));
+            }
+            *material_at = Some(span);
+            self.bump();
+            let m = self.material()?;
+            obj.set_material(&m);
+        } else {
+            self.bump();
+            let m = self.transform()?;
+            obj.transform(m);
+        }
+        Ok(())
+    }
+
+    /// `mesh { (file "…" | vertices … [normals …] triangles …) modifiers }`.
+    fn mesh(&mut self) -> R<Object> {
+        let mut file: Option<Vec<(TriangleMesh, Option<Material>)>> = None;
+        let mut vertices: Option<Vec<Vec3>> = None;
+        let mut normals: Option<(Vec<Vec3>, Span)> = None;
+        let mut triangles: Option<Vec<Tri>> = None;
+        let mut inline_key: Option<(String, Span)> = None;
+        let mut file_key: Option<Span> = None;
+        let (block, mods) =
+            self.primitive_block("mesh", &["file", "vertices", "normals", "triangles"], |p, key, span| {
+                if key == "file" {
+                    file_key = Some(span.clone());
+                } else if inline_key.is_none() {
+                    inline_key = Some((key.to_string(), span.clone()));
+                }
+                match key {
+                    "file" => {
+                        let (rel, s) = p.string("a quoted file name")?;
+                        let path = p.dir.join(&rel);
+                        let parts = load_mesh_file(&path).map_err(|e| {
+                            p.err(s, format!("cannot load mesh file `{rel}`")).label("this file").note(e.to_string())
+                        })?;
+                        file = Some(parts);
+                    }
+                    "vertices" => vertices = Some(p.vector_list("vertices", "vertex")?),
+                    "normals" => {
+                        let n = p.vector_list("normals", "normal")?;
+                        normals = Some((n, span.start..p.prev_end()));
+                    }
+                    _ => triangles = Some(p.triangle_list()?),
+                }
+                Ok(())
+            })?;
+        let mut obj = match file {
+            Some(parts) => {
+                if let (Some((k, s)), Some(f)) = (inline_key, file_key) {
+                    return Err(self
+                        .err(s, format!("`{k}` cannot be combined with `file` in one `mesh`"))
+                        .label("expected either `file` or inline mesh data")
+                        .also(self.file, f, "`file` given here"));
+                }
+                Object {
+                    parts: parts
+                        .into_iter()
+                        .map(|(m, mat)| Part {
+                            shape: Shape::Mesh(Rc::new(m)),
+                            transform: DMat4::IDENTITY,
+                            material: mat.map(Rc::new),
+                        })
+                        .collect(),
+                }
+            }
+            None => {
+                let v = self.required(vertices, "vertices", "mesh", &block)?;
+                let t = self.required(triangles, "triangles", "mesh", &block)?;
+                Object::single(Shape::Mesh(Rc::new(self.inline_mesh(v, normals, t)?)))
+            }
+        };
+        mods.apply(&mut obj);
+        Ok(obj)
+    }
+
+    /// `{ n <v> … }`: a count then exactly that many vectors.
+    fn vector_list(&mut self, what: &str, one: &str) -> R<Vec<Vec3>> {
+        let open = self.expect('{', &format!("to open `{what}`"))?;
+        let n = self.int(&format!("the number of {what}"), 1, u32::MAX as i64)? as usize;
+        let mut out = Vec::new();
+        while out.len() < n {
+            if self.at('}') {
+                return Err(self
+                    .expected(&format!("{} more {one} vector(s)", n - out.len()))
+                    .note(format!("`{what}` declares {n} entries but lists {}", out.len())));
+            }
+            out.push(self.vector(one)?);
+        }
+        if !self.at('}') {
+            let mut d = self.expected(&format!("`}}` to close `{what}` after its {n} entries")).also(
+                self.file,
+                open,
+                "opened here",
+            );
+            if self.at_word("normals") || self.at_word("triangles") {
+                d = d.note(format!("close `{what} {{ … }}` before `normals`/`triangles`: each is its own block"));
+            } else {
+                d = d.note(format!("`{what}` declares {n} entries; change the count if there are more"));
+            }
+            return Err(d);
+        }
+        self.bump();
+        Ok(out)
+    }
+
+    /// `{ n <a,b,c>[/<na,nb,nc>] … }`.
+    fn triangle_list(&mut self) -> R<Vec<Tri>> {
+        let open = self.expect('{', "to open `triangles`")?;
+        let n = self.int("the number of triangles", 1, u32::MAX as i64)? as usize;
+        let mut out = Vec::new();
+        while out.len() < n {
+            if self.at('}') {
+                return Err(self
+                    .expected(&format!("{} more triangle(s) `<a, b, c>`", n - out.len()))
+                    .note(format!("`triangles` declares {n} entries but lists {}", out.len())));
+            }
+            let start = self.span().start;
+            let v = self.index_triple()?;
+            let vspan = start..self.prev_end();
+            let nrm = if self.at('/') {
+                self.bump();
+                let s = self.span().start;
+                Some((self.index_triple()?, s..self.prev_end()))
+            } else {
+                None
+            };
+            out.push(Tri { v, vspan, n: nrm });
+        }
+        if !self.at('}') {
+            return Err(self.expected(&format!("`}}` to close `triangles` after its {n} entries")).also(
+                self.file,
+                open,
+                "opened here",
+            ));
+        }
+        self.bump();
+        Ok(out)
+    }
+
+    /// `'<' int ',' int ',' int '>'` (components may be expressions evaluating to integers).
+    fn index_triple(&mut self) -> R<[u32; 3]> {
+        self.expect('<', "to start a triangle's indices `<a, b, c>`")?;
+        let mut t = [0u32; 3];
+        for (i, slot) in t.iter_mut().enumerate() {
+            *slot = self.int("a 0-based index", 0, u32::MAX as i64 - 1)? as u32;
+            if i < 2 {
+                self.expect(',', "between indices")?;
+            }
+        }
+        self.expect('>', "to close the indices (three of them)")?;
+        Ok(t)
+    }
+
+    /// Builds an inline mesh. Triangles with `/<na,nb,nc>` take those normals; vertices
+    /// are split where one position is used with different normals. A triangle without
+    /// normal indices uses normal `i` for vertex `i` when there are as many normals as
+    /// vertices, and its flat geometric normal otherwise.
+    fn inline_mesh(&self, v: Vec<Vec3>, normals: Option<(Vec<Vec3>, Span)>, tris: Vec<Tri>) -> R<TriangleMesh> {
+        for t in &tris {
+            if let Some(&i) = t.v.iter().find(|&&i| i as usize >= v.len()) {
+                return Err(self.err(t.vspan.clone(), format!("vertex index {i} out of range")).label(format!(
+                    "expected indices below {} (the mesh has {} vertices)",
+                    v.len(),
+                    v.len()
+                )));
+            }
+            if let Some((n, s)) = &t.n {
+                let count = normals.as_ref().map_or(0, |(ns, _)| ns.len());
+                if normals.is_none() {
+                    return Err(self
+                        .err(s.clone(), "normal indices given but the mesh has no `normals` block")
+                        .label("expected a `normals { n <v> … }` block before `triangles`"));
+                }
+                if let Some(&i) = n.iter().find(|&&i| i as usize >= count) {
+                    return Err(self
+                        .err(s.clone(), format!("normal index {i} out of range"))
+                        .label(format!("expected indices below {count} (the mesh has {count} normals)")));
+                }
+            }
+        }
+        let any_split = tris.iter().any(|t| t.n.is_some());
+        let positions: Vec<[f32; 3]> = v.iter().map(|p| p.to_array()).collect();
+        match normals {
+            None => Ok(TriangleMesh::new(positions, tris.iter().map(|t| t.v).collect())),
+            Some((ns, _)) if !any_split && ns.len() == v.len() => {
+                let mut m = TriangleMesh::new(positions, tris.iter().map(|t| t.v).collect());
+                m.normals = Some(ns.iter().map(|n| n.normalize_or_zero().to_array()).collect());
+                Ok(m)
+            }
+            Some((ns, _)) => {
+                // One output vertex per distinct (position, normal) pair.
+                let same = ns.len() == v.len();
+                let mut map: HashMap<(u32, u32), u32> = HashMap::new();
+                let mut m = TriangleMesh::default();
+                let mut out_n = Vec::new();
+                for t in &tris {
+                    let mut tri = [0u32; 3];
+                    for k in 0..3 {
+                        let vi = t.v[k];
+                        let ni = match t.n {
+                            Some((n, _)) => n[k],
+                            None if same => vi,
+                            None => u32::MAX,
+                        };
+                        tri[k] = *map.entry((vi, ni)).or_insert_with(|| {
+                            m.positions.push(positions[vi as usize]);
+                            let n = ns.get(ni as usize).map_or(Vec3::ZERO, |n| n.normalize_or_zero());
+                            out_n.push(n.to_array());
+                            m.positions.len() as u32 - 1
+                        });
+                    }
+                    m.indices.push(tri);
+                }
+                m.normals = Some(out_n);
+                Ok(m)
+            }
+        }
+    }
+
+    /// `box { center V orientation V scale V modifiers }`.
+    fn boxx(&mut self) -> R<Object> {
+        let (mut c, mut o, mut s) = (None, None, None);
+        let (block, mods) = self.primitive_block("box", &["center", "orientation", "scale"], |p, key, _| {
+            match key {
+                "center" => c = Some(p.vector("box center")?),
+                "orientation" => o = Some(p.vector("box orientation")?),
+                _ => {
+                    let start = p.span().start;
+                    let v = p.vector("box scale")?;
+                    if v.min_element() <= 0.0 {
+                        return Err(p
+                            .err(start..p.prev_end(), format!("box scale {v} has an edge length that is not positive"))
+                            .label("expected three positive edge lengths"));
+                    }
+                    s = Some(v);
+                }
+            }
+            Ok(())
+        })?;
+        let c = self.required(c, "center", "box", &block)?;
+        let o = self.required(o, "orientation", "box", &block)?;
+        let s = self.required(s, "scale", "box", &block)?;
+        let mut obj = Object::single(Shape::Mesh(Rc::new(cuboid(c, s, o))));
+        mods.apply(&mut obj);
+        Ok(obj)
+    }
+
+    /// `sphere { center V radius R modifiers }`.
+    fn sphere(&mut self) -> R<Object> {
+        let (mut c, mut r) = (None, None);
+        let (block, mods) = self.primitive_block("sphere", &["center", "radius"], |p, key, _| {
+            match key {
+                "center" => c = Some(p.vector("sphere center")?),
+                _ => r = Some(p.real_f32("sphere radius", "a radius must be positive", |x| x > 0.0)?),
+            }
+            Ok(())
+        })?;
+        let center = self.required(c, "center", "sphere", &block)?;
+        let radius = self.required(r, "radius", "sphere", &block)?;
+        let mut obj = Object::single(Shape::Sphere { center, radius });
+        mods.apply(&mut obj);
+        Ok(obj)
+    }
+
+    /// A primitive's block: its own keys (handled by `f`) plus `material` and any number
+    /// of `transform`s, recorded in order.
+    fn primitive_block<F>(&mut self, what: &str, own: &[&str], mut f: F) -> R<(Span, Mods)>
+    where
+        F: FnMut(&mut Self, &str, Span) -> R<()>,
+    {
+        let mut allowed: Vec<&str> = own.to_vec();
+        allowed.extend(["material", "transform"]);
+        let mut mods = Mods::default();
+        let block = self.block(what, &allowed, &["transform"], |p, key, span| match key {
+            "material" => {
+                mods.0.push(Mod::Material(p.material()?));
+                Ok(())
+            }
+            "transform" => {
+                mods.0.push(Mod::Transform(p.transform()?));
+                Ok(())
+            }
+            _ => f(p, key, span),
+        })?;
+        Ok((block, mods))
+    }
+}
+
+/// A parsed triangle of an inline mesh.
+struct Tri {
+    v: [u32; 3],
+    vspan: Span,
+    n: Option<([u32; 3], Span)>,
+}
+
+/// A modifier as written.
+enum Mod {
+    Material(Rc<Material>),
+    Transform(DMat4),
+}
+
+/// Modifiers in written order.
+#[derive(Default)]
+struct Mods(Vec<Mod>);
+
+impl Mods {
+    fn apply(self, obj: &mut Object) {
+        for m in self.0 {
+            match m {
+                Mod::Material(m) => obj.set_material(&m),
+                Mod::Transform(t) => obj.transform(t),
+            }
+        }
+    }
+}
