@@ -77,7 +77,16 @@ fn trace_rays_matches_between_bvh_and_brute_and_writes_npz() {
     let mut results = Vec::new();
     for accel in ["brute", "bvh"] {
         let out = dir.path().join(format!("{accel}.npz"));
-        ok(dynray(&["trace-rays", &bunny(), "--rays", rays.to_str().unwrap(), "-o", out.to_str().unwrap(), "--accel", accel]));
+        ok(dynray(&[
+            "trace-rays",
+            &bunny(),
+            "--rays",
+            rays.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--accel",
+            accel,
+        ]));
         let t: Vec<f32> = read_npz(&out, "t");
         let prim: Vec<i64> = read_npz(&out, "prim");
         let u: Vec<f32> = read_npz(&out, "u");
@@ -164,7 +173,10 @@ fn wrong_ray_shape_is_rejected() {
     w.extend([0.0f32; 12]).unwrap();
     w.finish().unwrap();
     let out = dir.path().join("hits.npz");
-    fails_with(dynray(&["trace-rays", &bunny(), "--rays", rays.to_str().unwrap(), "-o", out.to_str().unwrap()]), "(N, 8)");
+    fails_with(
+        dynray(&["trace-rays", &bunny(), "--rays", rays.to_str().unwrap(), "-o", out.to_str().unwrap()]),
+        "(N, 8)",
+    );
 }
 
 #[test]
@@ -173,7 +185,10 @@ fn nan_ray_is_rejected_with_its_row() {
     let rays = dir.path().join("nan.npy");
     write_npy(&rays, &[[0.0; 8], [f32::NAN, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]]);
     let out = dir.path().join("hits.npz");
-    fails_with(dynray(&["trace-rays", &bunny(), "--rays", rays.to_str().unwrap(), "-o", out.to_str().unwrap()]), "ray 1");
+    fails_with(
+        dynray(&["trace-rays", &bunny(), "--rays", rays.to_str().unwrap(), "-o", out.to_str().unwrap()]),
+        "ray 1",
+    );
 }
 
 #[test]

@@ -32,11 +32,7 @@ pub fn run(a: InfoArgs) -> Result<()> {
     println!("leaves      {}", thousands(s.leaves));
     println!("max depth   {}", s.max_depth);
     let tris = mesh.triangle_count().max(1);
-    println!(
-        "prim refs   {} ({:.3} per triangle)",
-        thousands(s.primitive_refs),
-        s.primitive_refs as f64 / tris as f64
-    );
+    println!("prim refs   {} ({:.3} per triangle)", thousands(s.primitive_refs), s.primitive_refs as f64 / tris as f64);
     if s.leaves > 0 {
         println!("prims/leaf  {:.2} (mean)", s.primitive_refs as f64 / s.leaves as f64);
     }

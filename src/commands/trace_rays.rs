@@ -18,7 +18,8 @@ pub fn run(a: TraceRaysArgs) -> Result<()> {
     let rays = read_rays(&a.rays)?;
     let frame = super::load_scene(&a.mesh)?.frame(0.0);
     let t0 = Instant::now();
-    let accel = a.accel.build(&frame.mesh).with_context(|| format!("{}: cannot build {}", a.mesh.display(), a.accel))?;
+    let accel =
+        a.accel.build(&frame.mesh).with_context(|| format!("{}: cannot build {}", a.mesh.display(), a.accel))?;
     let build = t0.elapsed();
     let t1 = Instant::now();
     if a.occluded {
@@ -94,7 +95,11 @@ fn read_rays(path: &Path) -> Result<Vec<Ray>> {
 
 type Npz = npyz::npz::NpzWriter<BufWriter<std::fs::File>>;
 
-fn write_array<T: npyz::AutoSerialize + npyz::Serialize + Copy>(npz: &mut Npz, name: &str, data: &[T]) -> std::io::Result<()> {
+fn write_array<T: npyz::AutoSerialize + npyz::Serialize + Copy>(
+    npz: &mut Npz,
+    name: &str,
+    data: &[T],
+) -> std::io::Result<()> {
     let mut w = npz.array::<T>(name, Default::default())?.default_dtype().shape(&[data.len() as u64]).begin_nd()?;
     w.extend(data.iter().copied())?;
     w.finish()

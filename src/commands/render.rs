@@ -1,0 +1,81 @@
+//! `dynray render`: scene or mesh file (or the built-in demo) -> image.
+
+use super::thousands;
+use crate::cli::RenderArgs;
+use anyhow::{bail, Context, Result};
+use dynray_render::{render, write_image, OutputFormat, RenderOptions};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::time::{Duration, Instant};
+
+/// Largest image edge accepted, so a typo cannot ask for terabytes of film.
+const MAX_EDGE: u32 = 1 << 15;
+
+pub fn run(a: RenderArgs) -> Result<()> {
+    // Check the output name before any work, so a typo fails at once.
+    if OutputFormat::from_path(&a.output).is_none() {
+        bail!("{}: unknown image type (expected .png, .bmp or .exr)", a.output.display());
+    }
+    let (scene, label) = match &a.scene {
+        Some(p) => (super::load_scene(p)?, p.display().to_string()),
+        None => (dynray_scene::demo::demo_scene(), "built-in demo scene".to_string()),
+    };
+    let mut frame = scene.frame(0.0);
+    let s = &mut frame.settings;
+    if let Some(w) = a.width {
+        s.width = w;
+    }
+    if let Some(h) = a.height {
+        s.height = h;
+    }
+    if let Some(d) = a.max_depth {
+        s.max_recursion_level = d;
+    }
+    if let Some(m) = a.min_weight {
+        if !m.is_finite() {
+            bail!("--min-weight must be a finite number, got {m}");
+        }
+        s.min_weight = m;
+    }
+    for (flag, v) in [("--width", s.width), ("--height", s.height)] {
+        if v == 0 || v > MAX_EDGE {
+            bail!("{flag} must be between 1 and {MAX_EDGE}, got {v}");
+        }
+    }
+
+    let t0 = Instant::now();
+    let accel = a.accel.build(&frame.mesh).with_context(|| format!("{label}: cannot build {}", a.accel))?;
+    let build = t0.elapsed();
+
+    let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::hidden());
+    bar.set_style(ProgressStyle::with_template("{bar:40} {percent:>3}% {elapsed} (eta {eta})").unwrap());
+    let started = Instant::now();
+    // Only renders longer than a moment get a bar; indicatif hides it when stderr is no terminal.
+    let progress = |done: usize, total: usize| {
+        if bar.is_hidden() && started.elapsed() > Duration::from_millis(300) && done < total {
+            bar.set_draw_target(ProgressDrawTarget::stderr());
+        }
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+    };
+    let options = RenderOptions { progress: Some(&progress), ..Default::default() };
+    let t1 = Instant::now();
+    let (film, stats) = render(&frame, accel.as_ref(), &options);
+    let trace = t1.elapsed();
+    bar.finish_and_clear();
+    write_image(&film, &a.output)?;
+
+    let secs = trace.as_secs_f64().max(1e-9);
+    eprintln!(
+        "{label}: {} triangles, {} build {:.1} ms, render {:.1} ms ({}x{}, {} rays, {:.2} Mrays/s) -> {}",
+        thousands(frame.mesh.triangle_count()),
+        accel.name(),
+        build.as_secs_f64() * 1e3,
+        secs * 1e3,
+        film.width(),
+        film.height(),
+        thousands(stats.total_rays() as usize),
+        stats.total_rays() as f64 / secs / 1e6,
+        a.output.display()
+    );
+    Ok(())
+}
