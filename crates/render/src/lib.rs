@@ -17,4 +17,4 @@ pub use error::RenderError;
 pub use film::{linear_to_srgb8, Film};
 pub use output::{write_image, OutputFormat};
 pub use render::{render, RenderOptions, RenderStats};
-pub use whitted::{RayCounts, Whitted};
+pub use whitted::{RayCounts, Whitted, MAX_LEVEL_CAP};
