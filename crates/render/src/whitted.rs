@@ -16,6 +16,9 @@
 //!   coefficient (seed 003's GPU rule); it is traced only when the parent's level is below
 //!   `max_recursion_level` and that weight exceeds `min_weight`.
 
+// `!(x > y)` is deliberate throughout: it is true for NaN, which must take the safe branch.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use dynray_accel::Accel;
 use dynray_geom::{Hit, Ray, Vec3};
 use dynray_scene::{Color, Frame, LightKind, Material};
