@@ -1,6 +1,7 @@
 //! Scene model of dynray and its loaders.
 #![deny(missing_docs)]
 
+pub mod demo;
 mod error;
 mod model;
 pub mod ply;

@@ -1,0 +1,135 @@
+//! Primary rays of the scene camera: perspective (vertical field of view) and parallel
+//! (view height), through pixel centres, image y pointing down.
+
+use dynray_geom::{Ray, Vec3};
+use dynray_scene::{Camera, Projection};
+
+/// A camera resolved for one image size: an orthonormal frame and the half extents of
+/// the image window. Built once per frame, then asked for rays per pixel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CameraRays {
+    origin: Vec3,
+    forward: Vec3,
+    /// Right vector scaled by the window's half width.
+    right: Vec3,
+    /// Up vector scaled by the window's half height.
+    up: Vec3,
+    parallel: bool,
+    width: f32,
+    height: f32,
+}
+
+impl CameraRays {
+    /// Resolves `camera` for a `width` × `height` image (aspect = width / height).
+    ///
+    /// Never produces NaN: a look-at point equal to the position looks down −z, an up
+    /// vector parallel to the view direction is replaced by another axis, a field of view
+    /// outside (0°, 180°) is clamped, a non-positive parallel height becomes 1, and a zero
+    /// image dimension is treated as 1.
+    pub fn new(camera: &Camera, width: u32, height: u32) -> Self {
+        let (w, h) = (width.max(1) as f32, height.max(1) as f32);
+        let aspect = w / h;
+        let origin = if camera.position.is_finite() { camera.position } else { Vec3::ZERO };
+        let mut forward = (camera.look_at - origin).normalize_or_zero();
+        if forward == Vec3::ZERO || !forward.is_finite() {
+            forward = Vec3::NEG_Z;
+        }
+        let right = orthonormal_right(forward, camera.up);
+        let up = right.cross(forward);
+        let (half_h, parallel) = match camera.projection {
+            Projection::Perspective { fov_y_deg } => {
+                let fov = if fov_y_deg.is_finite() { fov_y_deg.clamp(1e-3, 179.0) } else { 60.0 };
+                ((fov.to_radians() * 0.5).tan(), false)
+            }
+            Projection::Parallel { height } => {
+                (if height.is_finite() && height > 0.0 { height * 0.5 } else { 1.0 }, true)
+            }
+        };
+        Self { origin, forward, right: right * (half_h * aspect), up: up * half_h, parallel, width: w, height: h }
+    }
+
+    /// The ray through continuous image position `(px, py)` (pixels, y down; the centre
+    /// of pixel `(x, y)` is `(x + 0.5, y + 0.5)`). Perspective rays start at the eye,
+    /// parallel rays on the plane through the eye; directions are unit length.
+    pub fn ray_at(&self, px: f32, py: f32) -> Ray {
+        let sx = 2.0 * px / self.width - 1.0;
+        let sy = 1.0 - 2.0 * py / self.height;
+        let offset = self.right * sx + self.up * sy;
+        if self.parallel {
+            Ray::new(self.origin + offset, self.forward)
+        } else {
+            Ray::new(self.origin, (self.forward + offset).normalize())
+        }
+    }
+
+    /// The ray through the centre of pixel `(x, y)`.
+    pub fn primary(&self, x: u32, y: u32) -> Ray {
+        self.ray_at(x as f32 + 0.5, y as f32 + 0.5)
+    }
+
+    /// Unit view direction.
+    pub fn forward(&self) -> Vec3 {
+        self.forward
+    }
+}
+
+/// Unit right vector of a camera looking along unit `forward` with approximate `up`;
+/// when `up` is zero, non-finite or (nearly) parallel to `forward`, the first of y, z, x
+/// that is far from `forward` stands in for it.
+fn orthonormal_right(forward: Vec3, up: Vec3) -> Vec3 {
+    let r = forward.cross(up.normalize_or_zero());
+    if r.is_finite() && r.length_squared() > 1e-8 {
+        return r.normalize();
+    }
+    let alt = [Vec3::Y, Vec3::Z, Vec3::X].into_iter().find(|a| forward.dot(*a).abs() < 0.9).unwrap_or(Vec3::Y);
+    forward.cross(alt).normalize()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cam(projection: Projection) -> Camera {
+        Camera { position: Vec3::new(0.0, 0.0, 5.0), look_at: Vec3::ZERO, up: Vec3::Y, projection }
+    }
+
+    #[test]
+    fn centre_ray_looks_at_target_and_y_points_down() {
+        let c = CameraRays::new(&cam(Projection::Perspective { fov_y_deg: 90.0 }), 4, 2);
+        let r = c.ray_at(2.0, 1.0);
+        assert!((r.dir - Vec3::NEG_Z).length() < 1e-6);
+        // Top edge of a 90° fov: 45° up; left edge: aspect 2 -> tan = 2.
+        let top = c.ray_at(2.0, 0.0).dir;
+        assert!((top - Vec3::new(0.0, 1.0, -1.0).normalize()).length() < 1e-6, "{top}");
+        let left = c.ray_at(0.0, 1.0).dir;
+        assert!((left - Vec3::new(-2.0, 0.0, -1.0).normalize()).length() < 1e-6, "{left}");
+    }
+
+    #[test]
+    fn parallel_rays_share_a_direction_and_span_the_height() {
+        let c = CameraRays::new(&cam(Projection::Parallel { height: 4.0 }), 2, 2);
+        let a = c.ray_at(1.0, 0.0);
+        let b = c.ray_at(1.0, 2.0);
+        assert_eq!(a.dir, b.dir);
+        assert!((a.origin - Vec3::new(0.0, 2.0, 5.0)).length() < 1e-6, "{}", a.origin);
+        assert!((b.origin - Vec3::new(0.0, -2.0, 5.0)).length() < 1e-6, "{}", b.origin);
+    }
+
+    #[test]
+    fn degenerate_cameras_give_finite_rays() {
+        let cases = [
+            Camera { up: Vec3::Z, ..cam(Projection::Perspective { fov_y_deg: 45.0 }) },
+            Camera { up: Vec3::ZERO, ..cam(Projection::Perspective { fov_y_deg: f32::NAN }) },
+            Camera { look_at: Vec3::new(0.0, 0.0, 5.0), ..cam(Projection::Parallel { height: -1.0 }) },
+            Camera { position: Vec3::splat(f32::NAN), ..cam(Projection::Perspective { fov_y_deg: 400.0 }) },
+            Camera { up: Vec3::new(0.0, f32::INFINITY, 0.0), ..cam(Projection::Perspective { fov_y_deg: 0.0 }) },
+        ];
+        for (i, c) in cases.iter().enumerate() {
+            let rays = CameraRays::new(c, 0, 3);
+            for (x, y) in [(0, 0), (0, 2), (1, 1)] {
+                let r = rays.primary(x, y);
+                assert!(r.origin.is_finite() && r.dir.is_finite() && r.dir != Vec3::ZERO, "case {i}: {r:?}");
+            }
+        }
+    }
+}

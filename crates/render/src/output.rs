@@ -1,0 +1,95 @@
+//! Writing a film to disk: PNG and BMP as 8-bit sRGB, EXR as linear `f32`, chosen by the
+//! file extension. The image is written to a temporary file in the target directory and
+//! renamed over the target, so a failure never leaves a partial output file.
+
+use crate::{Film, RenderError};
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// The image formats the renderer writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OutputFormat {
+    /// 8-bit sRGB PNG.
+    Png,
+    /// 8-bit sRGB BMP.
+    Bmp,
+    /// OpenEXR, linear RGB `f32` (HDR values kept).
+    Exr,
+}
+
+impl OutputFormat {
+    /// The format named by the path's extension (case-insensitive), if any.
+    pub fn from_path(path: &Path) -> Option<Self> {
+        let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+        match ext.as_str() {
+            "png" => Some(Self::Png),
+            "bmp" => Some(Self::Bmp),
+            "exr" => Some(Self::Exr),
+            _ => None,
+        }
+    }
+}
+
+/// Writes `film` to `path` in the format its extension names.
+///
+/// Errors name `path`: an unknown extension, an empty film, a directory that cannot be
+/// written, an encoder failure. On any error the target is left as it was.
+pub fn write_image(film: &Film, path: &Path) -> Result<(), RenderError> {
+    let format = OutputFormat::from_path(path).ok_or_else(|| RenderError::UnknownFormat { path: path.into() })?;
+    if film.width() == 0 || film.height() == 0 {
+        return Err(RenderError::EmptyImage { path: path.into(), width: film.width(), height: film.height() });
+    }
+    let tmp = temporary_name(path);
+    let result = write_to(film, format, path, &tmp)
+        .and_then(|()| std::fs::rename(&tmp, path).map_err(|source| RenderError::Io { path: path.into(), source }));
+    if result.is_err() {
+        // Best effort: the temporary may not exist (creation failed); nothing to report.
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
+}
+
+/// A hidden sibling of `path`, unique within this process, so that concurrent writes of
+/// different images (tests, animation frames) never share a temporary.
+fn temporary_name(path: &Path) -> PathBuf {
+    static COUNTER: AtomicU64 = AtomicU64::new(0);
+    let n = COUNTER.fetch_add(1, Ordering::Relaxed);
+    let name = path.file_name().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    path.with_file_name(format!(".{name}.{}.{n}.tmp", std::process::id()))
+}
+
+fn write_to(film: &Film, format: OutputFormat, path: &Path, tmp: &Path) -> Result<(), RenderError> {
+    let io = |source| RenderError::Io { path: path.into(), source };
+    let encode = |message: String| RenderError::Encode { path: path.into(), message };
+    let mut w = BufWriter::new(File::create(tmp).map_err(io)?);
+    match format {
+        OutputFormat::Png | OutputFormat::Bmp => {
+            let f = if format == OutputFormat::Png { image::ImageFormat::Png } else { image::ImageFormat::Bmp };
+            let bytes = film.to_srgb8();
+            image::write_buffer_with_format(&mut w, &bytes, film.width(), film.height(), image::ColorType::Rgb8, f)
+                .map_err(|e| match e {
+                    image::ImageError::IoError(source) => io(source),
+                    e => encode(e.to_string()),
+                })?;
+        }
+        OutputFormat::Exr => {
+            use exr::prelude::*;
+            let width = film.width() as usize;
+            let px = film.pixels();
+            let channels = SpecificChannels::rgb(|Vec2(x, y): Vec2<usize>| {
+                let c = px[y * width + x];
+                (c.x, c.y, c.z)
+            });
+            let image = Image::from_channels((width, film.height() as usize), channels);
+            image.write().to_buffered(&mut w).map_err(|e| match e {
+                exr::error::Error::Io(source) => io(source),
+                e => encode(e.to_string()),
+            })?;
+        }
+    }
+    // Flush and sync before the rename so the renamed file is complete.
+    w.flush().map_err(io)?;
+    w.get_ref().sync_all().map_err(io)
+}

@@ -1,0 +1,296 @@
+//! The Whitted integrator of seed 003 §3.7: ambient + per-light Lambert/Phong with one
+//! shadow ray each, mirror reflection and Snell refraction, recursion bounded by level
+//! and weight.
+//!
+//! Decisions the seed leaves open, and what this file does:
+//! - Shadow rays treat every surface as opaque, transparent ones included (the seed casts
+//!   one `occluded` ray per light and does not filter by material). Glass therefore casts
+//!   full shadows.
+//! - Entering or leaving a transparent object is decided by the geometric normal as wound
+//!   (`(p1-p0)×(p2-p0)` points outwards) against the ray direction. There is no stack of
+//!   nested media: entering goes from the environment's ior to the material's, leaving
+//!   goes back to the environment's.
+//! - Total internal reflection adds the transparency coefficient to the mirror
+//!   coefficient, so the transmitted energy is reflected instead of lost.
+//! - The child ray's weight is the parent's weight times the largest component of its
+//!   coefficient (seed 003's GPU rule); it is traced only when the parent's level is below
+//!   `max_recursion_level` and that weight exceeds `min_weight`.
+
+// `!(x > y)` is deliberate throughout: it is true for NaN, which must take the safe branch.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+use dynray_accel::Accel;
+use dynray_geom::{Hit, Ray, Vec3};
+use dynray_scene::{Color, Frame, LightKind, Material};
+
+/// Hard cap on the recursion level, whatever the settings say: each level is one stack
+/// frame of [`Whitted::trace`], and a scene file asking for a million levels between two
+/// mirrors must not overflow the thread's stack. The seed's experiments go to 10.
+pub const MAX_LEVEL_CAP: u32 = 64;
+
+/// Rays traced besides the primary ones, counted per tile and summed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RayCounts {
+    /// Shadow (occlusion) rays.
+    pub shadow: u64,
+    /// Reflection and refraction rays.
+    pub secondary: u64,
+}
+
+/// A Whitted ray tracer over one frame and an acceleration structure built on its mesh.
+pub struct Whitted<'a> {
+    frame: &'a Frame,
+    accel: &'a dyn Accel,
+    /// Offset scale from the scene size, added to the per-point part in [`Self::eps`].
+    eps_base: f32,
+    env_ior: f32,
+    max_level: u32,
+    min_weight: f32,
+    fallback: Material,
+}
+
+/// What shading needs about a hit.
+struct Surface<'m> {
+    /// Hit point, from the barycentrics (on the triangle's plane).
+    p: Vec3,
+    /// Unit geometric normal as wound (not flipped).
+    ng: Vec3,
+    /// Unit shading normal, flipped to face the incoming ray.
+    ns: Vec3,
+    material: &'m Material,
+}
+
+impl<'a> Whitted<'a> {
+    /// An integrator for `frame`; `accel` must be built on `frame.mesh` (triangle indices
+    /// are looked up in it). Settings and environment come from the frame.
+    pub fn new(frame: &'a Frame, accel: &'a dyn Accel) -> Self {
+        let diag = frame.mesh.bounds().extent().length();
+        let diag = if diag.is_finite() && diag > 0.0 { diag } else { 1.0 };
+        Self {
+            frame,
+            accel,
+            eps_base: diag * 1e-5,
+            env_ior: sane_ior(frame.environment.ior),
+            max_level: frame.settings.max_recursion_level.min(MAX_LEVEL_CAP),
+            min_weight: frame.settings.min_weight,
+            fallback: Material::default(),
+        }
+    }
+
+    /// Radiance arriving along `ray` (unit direction expected, any length works) for a
+    /// ray of the given `level` (primary = 1) and `weight` (primary = 1). Never NaN.
+    pub fn trace(&self, ray: &Ray, level: u32, weight: f32, counts: &mut RayCounts) -> Color {
+        let hit = self.accel.intersect(ray);
+        let c = match self.surface(ray, &hit) {
+            Some(s) => self.shade(ray, &s, level, weight, counts),
+            None => self.frame.environment.background,
+        };
+        // A NaN from a hostile material (NaN shine, inf × 0) would spread through every
+        // parent ray; stop it here.
+        Color::from_array(c.to_array().map(|x| if x.is_nan() { 0.0 } else { x }))
+    }
+
+    /// Offset for rays leaving `p`: relative to the scene and to the magnitude of `p`,
+    /// so it stays above the f32 rounding of the hit point at any scale.
+    fn eps(&self, p: Vec3) -> f32 {
+        let m = p.abs().max_element();
+        self.eps_base + if m.is_finite() { m * 1e-5 } else { 0.0 }
+    }
+
+    fn surface(&self, ray: &Ray, hit: &Hit) -> Option<Surface<'_>> {
+        if !hit.is_hit() {
+            return None;
+        }
+        let mesh = &self.frame.mesh;
+        let prim = hit.prim as usize;
+        let [i0, i1, i2] = *mesh.indices.get(prim)?;
+        let vertex = |i: u32| mesh.positions.get(i as usize).map(|p| Vec3::from_array(*p));
+        let (p0, p1, p2) = (vertex(i0)?, vertex(i1)?, vertex(i2)?);
+        let (u, v) = (hit.u, hit.v);
+        let w = 1.0 - u - v;
+        let p = p0 * w + p1 * u + p2 * v;
+        let d = ray.dir.normalize_or_zero();
+        let mut ng = (p1 - p0).cross(p2 - p0).normalize_or_zero();
+        if ng == Vec3::ZERO || !ng.is_finite() {
+            ng = -d;
+        }
+        // Vertex normals when present; zero (or unusable) ones mean "geometric normal"
+        // (see `Scene::frame`, which pads actors without normals with zeros).
+        let interpolated = mesh.normals.as_ref().and_then(|ns| {
+            let n = |i: u32| ns.get(i as usize).map(|n| Vec3::from_array(*n));
+            let s = n(i0)? * w + n(i1)? * u + n(i2)? * v;
+            (s.is_finite() && s.length_squared() > 1e-12).then(|| s.normalize())
+        });
+        let ns = interpolated.unwrap_or(ng);
+        let ns = if ns.dot(d) > 0.0 { -ns } else { ns };
+        let material = self
+            .frame
+            .materials_of
+            .get(prim)
+            .and_then(|&m| self.frame.materials.get(m as usize))
+            .unwrap_or(&self.fallback);
+        Some(Surface { p, ng, ns, material })
+    }
+
+    fn shade(&self, ray: &Ray, s: &Surface<'_>, level: u32, weight: f32, counts: &mut RayCounts) -> Color {
+        let m = s.material;
+        let env = &self.frame.environment;
+        let d = ray.dir.normalize_or_zero();
+        let view = -d;
+        let eps = self.eps(s.p);
+        let mut c = m.ambient * env.ambient;
+
+        for light in &self.frame.lights {
+            let (l, tmax, att) = match light.kind {
+                LightKind::Point { position, falloff } => {
+                    let to = position - s.p;
+                    let dist = to.length();
+                    if !(dist > 0.0 && dist.is_finite()) {
+                        continue;
+                    }
+                    (to / dist, dist - eps, attenuation(dist, falloff))
+                }
+                LightKind::Directional { direction } => (-direction.normalize_or_zero(), f32::INFINITY, 1.0),
+            };
+            let ndl = s.ns.dot(l);
+            // Also rejects a zero or NaN light direction and an infinite attenuation.
+            if !(ndl > 0.0) || !att.is_finite() {
+                continue;
+            }
+            // Start on the light's side of the triangle's plane, so the shadow ray cannot
+            // hit the triangle it leaves.
+            let side = if s.ng.dot(l) >= 0.0 { s.ng } else { -s.ng };
+            counts.shadow += 1;
+            if self.accel.occluded(&Ray::with_interval(s.p + side * eps, l, 0.0, tmax)) {
+                continue;
+            }
+            let r = s.ns * (2.0 * ndl) - l;
+            let highlight =
+                if m.spot == Color::ZERO { Color::ZERO } else { m.spot * r.dot(view).max(0.0).powf(m.shine) };
+            c += light.color * att * (m.diffuse * ndl + highlight);
+        }
+
+        if level >= self.max_level {
+            return c;
+        }
+        let mut mirror = m.specular;
+        let mut transmitted = None;
+        if m.transparency.max_element() > 0.0 {
+            let entering = s.ng.dot(d) < 0.0;
+            let ior = sane_ior(m.ior);
+            let eta = if entering { self.env_ior / ior } else { ior / self.env_ior };
+            match refract(d, s.ns, eta) {
+                Some(t) => transmitted = Some(t),
+                None => mirror += m.transparency,
+            }
+        }
+        if mirror.max_element() > 0.0 {
+            c += self.spawn(s, reflect(d, s.ns), mirror, eps, level, weight, counts);
+        }
+        if let Some(t) = transmitted {
+            c += self.spawn(s, t, m.transparency, eps, level, weight, counts);
+        }
+        c
+    }
+
+    /// Traces a secondary ray from the surface along `dir` with coefficient `coef` when
+    /// its weight is above the threshold, and returns its coefficient-weighted radiance.
+    #[allow(clippy::too_many_arguments)]
+    fn spawn(
+        &self,
+        s: &Surface<'_>,
+        dir: Vec3,
+        coef: Color,
+        eps: f32,
+        level: u32,
+        weight: f32,
+        counts: &mut RayCounts,
+    ) -> Color {
+        let w = weight * coef.max_element();
+        if !(w > self.min_weight) {
+            return Color::ZERO;
+        }
+        let side = if s.ng.dot(dir) >= 0.0 { s.ng } else { -s.ng };
+        counts.secondary += 1;
+        coef * self.trace(&Ray::new(s.p + side * eps, dir), level + 1, w, counts)
+    }
+}
+
+/// `1 / d^falloff`; falloff 0 is no attenuation, negative exponents grow with distance as
+/// written.
+fn attenuation(dist: f32, falloff: i32) -> f32 {
+    if falloff == 0 {
+        1.0
+    } else {
+        1.0 / dist.powi(falloff)
+    }
+}
+
+/// A usable index of refraction: positive and finite, otherwise 1 (no bending).
+fn sane_ior(ior: f32) -> f32 {
+    if ior.is_finite() && ior > 0.0 {
+        ior
+    } else {
+        1.0
+    }
+}
+
+/// Mirror direction of unit `d` about unit `n`.
+pub(crate) fn reflect(d: Vec3, n: Vec3) -> Vec3 {
+    d - n * (2.0 * d.dot(n))
+}
+
+/// Snell refraction of unit `d` through a surface with unit normal `n` facing the
+/// incoming ray (`d·n <= 0`), `eta = n_from / n_to`. `None` on total internal reflection.
+pub(crate) fn refract(d: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
+    let cos_i = (-d.dot(n)).clamp(0.0, 1.0);
+    let k = 1.0 - eta * eta * (1.0 - cos_i * cos_i);
+    if !(k >= 0.0) {
+        return None;
+    }
+    Some((d * eta + n * (eta * cos_i - k.sqrt())).normalize_or_zero()).filter(|t| *t != Vec3::ZERO)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reflect_mirrors_about_the_normal() {
+        let d = Vec3::new(1.0, -1.0, 0.0).normalize();
+        let r = reflect(d, Vec3::Y);
+        assert!((r - Vec3::new(1.0, 1.0, 0.0).normalize()).length() < 1e-6);
+    }
+
+    #[test]
+    fn refract_obeys_snell() {
+        let d = Vec3::new(40f32.to_radians().sin(), -40f32.to_radians().cos(), 0.0);
+        let t = refract(d, Vec3::Y, 1.0 / 1.5).unwrap();
+        let sin_t = t.x;
+        assert!((sin_t - 40f32.to_radians().sin() / 1.5).abs() < 1e-6, "{sin_t}");
+        assert!(t.y < 0.0 && (t.length() - 1.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn refract_with_eta_one_goes_straight() {
+        let d = Vec3::new(0.3, -0.8, 0.2).normalize();
+        let t = refract(d, Vec3::Y, 1.0).unwrap();
+        assert!((t - d).length() < 1e-6, "{t} {d}");
+    }
+
+    #[test]
+    fn total_internal_reflection_beyond_the_critical_angle() {
+        // Glass to air: critical angle asin(1/1.5) ≈ 41.8°.
+        let at = |deg: f32| Vec3::new(deg.to_radians().sin(), -deg.to_radians().cos(), 0.0);
+        assert!(refract(at(41.0), Vec3::Y, 1.5).is_some());
+        assert!(refract(at(42.5), Vec3::Y, 1.5).is_none());
+        assert!(refract(at(10.0), Vec3::Y, f32::NAN).is_none());
+    }
+
+    #[test]
+    fn attenuation_is_inverse_power() {
+        assert_eq!(attenuation(3.0, 0), 1.0);
+        assert_eq!(attenuation(2.0, 2), 0.25);
+        assert_eq!(attenuation(2.0, 1), 0.5);
+    }
+}
