@@ -33,7 +33,25 @@ use std::path::Path;
 pub fn load(path: &Path) -> Result<LoadReport, LoadError> {
     let bytes = std::fs::read(path).map_err(|e| LoadError::io(path, e))?;
     let perr = |m: String| LoadError::parse(path, None, m);
-    let gltf::Gltf { document, blob } = gltf::Gltf::from_slice(&bytes).map_err(|e| perr(format!("glTF: {e}")))?;
+    let gltf::Gltf { document, blob } =
+        gltf::Gltf::from_slice_without_validation(&bytes).map_err(|e| perr(format!("glTF: {e}")))?;
+    let json = document.into_json();
+    // gltf-json 1.4's validation indexes `accessors[POSITION]` before checking the
+    // index, and panics on a bad one; check it first.
+    for (m, mesh) in json.meshes.iter().enumerate() {
+        for (p, prim) in mesh.primitives.iter().enumerate() {
+            for (semantic, acc) in &prim.attributes {
+                if acc.value() >= json.accessors.len() {
+                    return Err(perr(format!(
+                        "glTF: mesh {m} primitive {p}: attribute {semantic:?} names accessor {}, but there are {}",
+                        acc.value(),
+                        json.accessors.len()
+                    )));
+                }
+            }
+        }
+    }
+    let document = gltf::Document::from_json(json).map_err(|e| perr(format!("glTF: {e}")))?;
     let base = path.parent().unwrap_or(Path::new(""));
     let buffers = gltf::import_buffers(&document, Some(base), blob).map_err(|e| perr(format!("glTF buffers: {e}")))?;
     let mut warnings = Vec::new();
