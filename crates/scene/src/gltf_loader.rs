@@ -177,6 +177,7 @@ fn read_primitive(prim: &gltf::Primitive, buffers: &[gltf::buffer::Data]) -> Res
 fn triangles(mode: Mode, c: &[u32]) -> Result<Vec<[u32; 3]>, String> {
     Ok(match mode {
         Mode::Triangles => {
+            #[allow(clippy::manual_is_multiple_of)] // is_multiple_of needs Rust 1.87; MSRV is 1.85
             if c.len() % 3 != 0 {
                 return Err(format!("TRIANGLES with {} indices, not a multiple of 3", c.len()));
             }

@@ -13,8 +13,9 @@
 //!
 //! # Checks (before tobj runs)
 //! Numbers must parse and be finite; `v` has 3 coordinates plus an optional non-zero `w`
-//! or an RGB triple; `vt` has 1–3 numbers; `vn` has 3; every face index (absolute or
-//! negative/relative, for `v`, `vt` and `vn`) must name an element already defined.
+//! (applied here) or an RGB triple (dropped); `vt` has 1–3 numbers; `vn` has 3; every face index (absolute or
+//! negative/relative, for `v`, `vt` and `vn`) must name an element already defined
+//! (forward references, which the format does not allow, are errors).
 //! Each failure is a [`LoadError::Parse`] naming the file and the line. The checks make
 //! tobj's own error paths (which carry no line) unreachable in practice, and also keep
 //! out the face indices on which tobj 4.0 would overflow.
@@ -65,6 +66,8 @@ pub fn load(path: &Path) -> Result<LoadReport, LoadError> {
         libraries.push(lib);
     }
     let next_library = std::cell::Cell::new(0usize);
+    // `..Default::default()` stays: tobj's `merging`/`reordering` features add fields.
+    #[allow(clippy::needless_update)]
     let options = tobj::LoadOptions {
         single_index: true,
         triangulate: true,
@@ -211,12 +214,19 @@ fn check(path: &Path, text: &str, warnings: &mut Vec<Warning>) -> Result<Checked
         match key {
             "v" => {
                 let v = numbers("a coordinate")?;
-                match v.len() {
-                    3 | 6 => {}
-                    4 if v[3] != 0.0 => {}
+                // Written back as `v x y z` (divided by w): tobj would reject a file
+                // whose vertices are only partly coloured, and dynray has no use for colour.
+                let w = match v.len() {
+                    3 | 6 => 1.0,
+                    4 if v[3] != 0.0 => v[3],
                     4 => return Err(err("`v`: the weight w must not be 0".into())),
                     n => return Err(err(format!("`v`: expected x y z [w] or x y z r g b, found {n} numbers"))),
+                };
+                let p = [v[0] / w, v[1] / w, v[2] / w];
+                if !p.iter().all(|c| c.is_finite()) {
+                    return Err(err(format!("`v`: x y z / w is not finite (w = {w})")));
                 }
+                keep = format!("v {} {} {}", p[0], p[1], p[2]);
                 nv += 1;
             }
             "vt" => {
@@ -255,6 +265,8 @@ fn check(path: &Path, text: &str, warnings: &mut Vec<Warning>) -> Result<Checked
                     return Err(err("`usemtl` without a material name".into()));
                 }
                 out.usemtl.push((line_no, name.to_string()));
+                // tobj splits the name off at a space, not at a tab.
+                keep = format!("usemtl {name}");
             }
             "mtllib" => {
                 if args.is_empty() {

@@ -198,6 +198,8 @@ struct Sink<'a> {
     positions: Vec<[f32; 3]>,
     normals: Vec<[f32; 3]>,
     has_normals: bool,
+    /// Vertices the header declares.
+    vertex_count: u64,
     indices: Vec<[u32; 3]>,
     poly: Vec<u32>,
     cur_pos: [f32; 3],
@@ -222,7 +224,7 @@ impl<'a> Sink<'a> {
         let has_normals = ["nx", "ny", "nz"].iter().all(|n| vertex.props.iter().any(|p| p.name() == *n));
         let face = h.elements.iter().find(|e| e.name == "face");
         if let Some(face) = face {
-            if !face.props.iter().any(|p| is_index_list(p)) {
+            if !face.props.iter().any(is_index_list) {
                 return Err(LoadError::parse(path, Some(face.line), "face element has no `vertex_indices` list"));
             }
         }
@@ -231,6 +233,7 @@ impl<'a> Sink<'a> {
             positions: Vec::new(),
             normals: Vec::new(),
             has_normals,
+            vertex_count: vertex.count,
             indices: Vec::new(),
             poly: Vec::new(),
             cur_pos: [0.0; 3],
@@ -272,11 +275,13 @@ impl<'a> Sink<'a> {
     /// Fan-triangulates the polygon gathered in `poly`; faces of fewer than three
     /// vertices produce no triangle.
     fn end_face(&mut self, line: Option<usize>, face: u64) -> Result<(), LoadError> {
-        if let Some(&bad) = self.poly.iter().find(|&&i| i as usize >= self.positions.len()) {
+        // Checked against the declared count, not the vertices read so far, so that a
+        // file declaring `face` before `vertex` reads; a short vertex section fails anyway.
+        if let Some(&bad) = self.poly.iter().find(|&&i| i as u64 >= self.vertex_count) {
             return Err(LoadError::parse(
                 self.path,
                 line,
-                format!("face {face} uses vertex {bad}, but the file has {} vertices", self.positions.len()),
+                format!("face {face} uses vertex {bad}, but the file has {} vertices", self.vertex_count),
             ));
         }
         for k in 1..self.poly.len().saturating_sub(1) {
