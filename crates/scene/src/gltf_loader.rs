@@ -53,7 +53,18 @@ pub fn load(path: &Path) -> Result<LoadReport, LoadError> {
     }
     let document = gltf::Document::from_json(json).map_err(|e| perr(format!("glTF: {e}")))?;
     let base = path.parent().unwrap_or(Path::new(""));
-    let buffers = gltf::import_buffers(&document, Some(base), blob).map_err(|e| perr(format!("glTF buffers: {e}")))?;
+    let buffers = gltf::import_buffers(&document, Some(base), blob).map_err(|e| {
+        // gltf's error does not say which file; name the external ones.
+        let uris: Vec<String> = document
+            .buffers()
+            .filter_map(|b| match b.source() {
+                gltf::buffer::Source::Uri(u) if !u.starts_with("data:") => Some(base.join(u).display().to_string()),
+                _ => None,
+            })
+            .collect();
+        let named = if uris.is_empty() { String::new() } else { format!(" (buffer files: {})", uris.join(", ")) };
+        perr(format!("glTF buffer data: {e}{named}"))
+    })?;
     let mut warnings = Vec::new();
 
     let mut scene =

@@ -4,18 +4,7 @@
 //! dynray parses MTL itself rather than through tobj because tobj's MTL reader panics on
 //! a colour with fewer than three numbers and reports no line numbers.
 //!
-//! Mapping (documented in [`crate::obj`] too):
-//!
-//! | MTL | dynray | when absent |
-//! |---|---|---|
-//! | `Kd` | `diffuse` | 0.72 grey (the default material's diffuse) |
-//! | `Ka` | `ambient` | `Kd × 0.1` (the default finish's ambient fraction) |
-//! | `Ks` | `spot` (Phong highlight) | black |
-//! | `Ns` | `shine` | 1 |
-//! | `illum` 3, 5, 7 | `specular` (mirror) = `Ks` | black for every other `illum` |
-//! | `d` / `Tr` | `transparency` = `1 - d`, or `Tr` when there is no `d` | 0 |
-//! | `Ni` | `ior` | 1 |
-//! | `Ke` | `ambient` = `Ke / environment ambient`, plus a point light (see obj.rs) | no emission |
+//! The mapping to [`Material`] is documented (as a table) in [`crate::obj`].
 //!
 //! A colour may be given as one number (grey) or three; `spectral` and `xyz` colours are
 //! not supported and give a warning. Texture maps, `Tf`, `sharpness` and every other

@@ -13,19 +13,33 @@
 //!
 //! # Checks (before tobj runs)
 //! Numbers must parse and be finite; `v` has 3 coordinates plus an optional non-zero `w`
-//! (applied here) or an RGB triple (dropped); `vt` has 1–3 numbers; `vn` has 3; every face index (absolute or
-//! negative/relative, for `v`, `vt` and `vn`) must name an element already defined
-//! (forward references, which the format does not allow, are errors).
+//! (applied here) or an RGB triple (dropped); `vt` has 1–3 numbers; `vn` has 3; every
+//! face index (absolute or negative/relative, for `v`, `vt` and `vn`) must name an
+//! element already defined (forward references, which the format does not allow, are
+//! errors).
 //! Each failure is a [`LoadError::Parse`] naming the file and the line. The checks make
 //! tobj's own error paths (which carry no line) unreachable in practice, and also keep
 //! out the face indices on which tobj 4.0 would overflow.
 //!
 //! # Materials
-//! MTL libraries are parsed by [`crate::mtl`], whose docs give the mapping (`Kd` →
-//! diffuse, `Ka` → ambient or `0.1 × Kd`, `Ks` → spot, `Ns` → shine, `illum` 3/5/7 →
-//! mirror `specular = Ks`, `d`/`Tr` → transparency `1 - d`, `Ni` → ior). A malformed MTL
-//! is an error naming the `.mtl` file and line. A missing library, or a `usemtl` naming
-//! no known material, is a [`Warning`]; those faces get [`Material::default`].
+//! MTL libraries are parsed by dynray (tobj's MTL reader panics on a short colour and
+//! gives no line numbers). Mapping to [`Material`]:
+//!
+//! | MTL | dynray | when absent |
+//! |---|---|---|
+//! | `Kd` | `diffuse` | 0.72 grey (the default material's diffuse) |
+//! | `Ka` | `ambient` | `Kd × 0.1` (the default finish's ambient fraction) |
+//! | `Ks` | `spot` (Phong highlight) | black |
+//! | `Ns` | `shine` | 1 |
+//! | `illum` 3, 5, 7 | `specular` (mirror) = `Ks` | black for every other `illum` |
+//! | `d` / `Tr` | `transparency` = `1 - d`, or `Tr` when there is no `d` | 0 |
+//! | `Ni` | `ior` | 1 |
+//! | `Ke` | `ambient` = `Ke / environment ambient`, plus a point light (see Emitters) | no emission |
+//!
+//! A colour may be one number (grey) or three; `spectral`/`xyz` colours are ignored with a
+//! warning, as are texture maps, `Tf` and `sharpness` (silently). A malformed MTL is an
+//! error naming the `.mtl` file and line. A missing library, or a `usemtl` naming no known
+//! material, is a [`Warning`]; those faces get [`Material::default`].
 //!
 //! # Emitters
 //! A material with a non-black `Ke` is an area light. dynray has no area lights in the
@@ -34,7 +48,7 @@
 //! scene's diagonal (so shadow rays towards it do not stop on the emitter itself), with
 //! colour `Ke × area` and inverse-square falloff: the radiant intensity of a small
 //! Lambertian emitter of radiance `Ke` seen along its normal. (The Cornell box's
-//! `Ke 17 12 4` over 0.18 m² gives about 3.0, 2.1, 0.7.) The emitter's material gets
+//! `Ke 17 12 4` over its 0.47 × 0.38 lamp gives about 3.0, 2.1, 0.7.) The emitter's material gets
 //! `ambient = Ke / environment ambient`, so the lamp itself looks as bright as it emits.
 //! Files without emitters get the default light.
 

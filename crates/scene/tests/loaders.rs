@@ -600,6 +600,18 @@ fn gltf_points_are_skipped_with_a_warning() {
 }
 
 #[test]
+fn gltf_missing_or_short_buffer_file_is_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = gltf_triangle(dir.path(), "t.gltf", 3, "", "");
+    std::fs::remove_file(dir.path().join("tri.bin")).unwrap();
+    let msg = error_of(&p);
+    assert!(msg.contains("glTF buffer data") && msg.contains("tri.bin"), "{msg}");
+    write(dir.path(), "tri.bin", &[0; 10]);
+    let msg = error_of(&p);
+    assert!(msg.contains("tri.bin"), "{msg}");
+}
+
+#[test]
 fn gltf_node_cycle_is_an_error_not_a_hang() {
     let dir = tempfile::tempdir().unwrap();
     let p = gltf_triangle(dir.path(), "c.gltf", 3, "", "");
@@ -663,6 +675,20 @@ fn obj_materials_groups_normals_and_missing_library() {
         r.warnings[0]
     );
     assert!(r.warnings[0].message.contains("lib.mtl"));
+}
+
+#[test]
+fn obj_tolerates_tabs_weights_and_partly_coloured_vertices() {
+    let dir = tempfile::tempdir().unwrap();
+    write(dir.path(), "t.mtl", b"newmtl\tred one\nKd 1 0 0\n");
+    let obj = b"mtllib t.mtl\nv 0 0 0 1 0 0\nv 2 0 0 2\nv\t0\t1\t0\nusemtl\tred one\nf 1 2 3\n";
+    let r = load_file_report(&write(dir.path(), "t.obj", obj)).unwrap();
+    assert_eq!(r.warnings, vec![]);
+    let m = one_mesh(&r.scene);
+    assert_eq!(m.positions, vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+    assert_eq!(r.scene.materials[r.scene.actors[0].materials[0] as usize].name, "red one");
+    let p = write(dir.path(), "w.obj", b"v 1e38 0 0 1e-10\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    assert!(error_of(&p).contains("w.obj:1: `v`: x y z / w is not finite"));
 }
 
 // ---------------------------------------------------------------------------------------
