@@ -20,7 +20,9 @@
 //! - Every accessor dynray reads is checked before reading (type, component type,
 //!   stride, and that `offset + stride × (count - 1) + size` lies inside its buffer view
 //!   and buffer) because the gltf crate slices without such checks in places, and a
-//!   cycle in the node graph is an error rather than an endless walk.
+//!   cycle in the node graph is an error rather than an endless walk. External buffer
+//!   URIs must name regular files (no devices), and bad attribute indices are caught
+//!   before gltf-json's validation, which would panic on them.
 
 use crate::load::{LoadReport, Warning};
 use crate::{Actor, Finish, LoadError, Material, Scene};
@@ -53,6 +55,11 @@ pub fn load(path: &Path) -> Result<LoadReport, LoadError> {
     }
     let document = gltf::Document::from_json(json).map_err(|e| perr(format!("glTF: {e}")))?;
     let base = path.parent().unwrap_or(Path::new(""));
+    for buffer in document.buffers() {
+        if let gltf::buffer::Source::Uri(uri) = buffer.source() {
+            check_buffer_uri(base, uri).map_err(|m| perr(format!("glTF buffer {}: {m}", buffer.index())))?;
+        }
+    }
     let buffers = gltf::import_buffers(&document, Some(base), blob).map_err(|e| {
         // gltf's error does not say which file; name the external ones.
         let uris: Vec<String> = document
@@ -140,6 +147,48 @@ pub fn load(path: &Path) -> Result<LoadReport, LoadError> {
     }
     scene.add_default_light();
     Ok(LoadReport { scene, warnings })
+}
+
+/// Checks an external buffer URI before gltf reads it: gltf 1.4 panics when a relative
+/// URI percent-decodes to invalid UTF-8, and would read a device such as `/dev/zero`
+/// forever. So a relative or `file:` URI must decode to UTF-8 and name a regular file.
+fn check_buffer_uri(base: &Path, uri: &str) -> Result<(), String> {
+    if uri.starts_with("data:") {
+        return Ok(());
+    }
+    let file = if let Some(rest) = uri.strip_prefix("file://").or_else(|| uri.strip_prefix("file:")) {
+        std::path::PathBuf::from(rest)
+    } else if uri.contains(':') {
+        return Err(format!("URI scheme of `{uri}` is not supported (only relative, file: and data:)"));
+    } else {
+        base.join(percent_decode(uri).ok_or_else(|| format!("URI `{uri}` does not decode to UTF-8"))?)
+    };
+    match std::fs::metadata(&file) {
+        Ok(m) if m.is_file() => Ok(()),
+        Ok(_) => Err(format!("{} is not a regular file", file.display())),
+        Err(e) => Err(format!("{}: {e}", file.display())),
+    }
+}
+
+/// `%XX` decoding as the glTF importer does it; `None` when the result is not UTF-8.
+fn percent_decode(s: &str) -> Option<String> {
+    let b = s.as_bytes();
+    let mut out = Vec::with_capacity(b.len());
+    let mut i = 0;
+    while i < b.len() {
+        let hex = |c: u8| (c as char).to_digit(16);
+        match (b[i], b.get(i + 1).copied().and_then(hex), b.get(i + 2).copied().and_then(hex)) {
+            (b'%', Some(h), Some(l)) => {
+                out.push((h * 16 + l) as u8);
+                i += 3;
+            }
+            (c, _, _) => {
+                out.push(c);
+                i += 1;
+            }
+        }
+    }
+    String::from_utf8(out).ok()
 }
 
 /// The dynray material for a glTF material (module docs).
@@ -247,6 +296,23 @@ fn check_accessor(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn buffer_uris_must_name_regular_files() {
+        assert_eq!(percent_decode("a%20b%2Fc%zz%4"), Some("a b/c%zz%4".into()));
+        assert_eq!(percent_decode("%FF"), None);
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join("a b.bin"), [0u8; 4]).unwrap();
+        assert!(check_buffer_uri(dir.path(), "a%20b.bin").is_ok());
+        assert!(check_buffer_uri(dir.path(), "data:application/octet-stream;base64,AAAA").is_ok());
+        assert!(check_buffer_uri(dir.path(), "%FF.bin").unwrap_err().contains("UTF-8"));
+        assert!(check_buffer_uri(dir.path(), ".").unwrap_err().contains("not a regular file"));
+        assert!(check_buffer_uri(dir.path(), "missing.bin").is_err());
+        assert!(check_buffer_uri(dir.path(), "http://example.com/x.bin").unwrap_err().contains("not supported"));
+        if Path::new("/dev/zero").exists() {
+            assert!(check_buffer_uri(dir.path(), "file:///dev/zero").unwrap_err().contains("not a regular file"));
+        }
+    }
 
     #[test]
     fn strips_and_fans_follow_the_spec_order() {

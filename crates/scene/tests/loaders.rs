@@ -605,10 +605,20 @@ fn gltf_missing_or_short_buffer_file_is_named() {
     let p = gltf_triangle(dir.path(), "t.gltf", 3, "", "");
     std::fs::remove_file(dir.path().join("tri.bin")).unwrap();
     let msg = error_of(&p);
-    assert!(msg.contains("glTF buffer data") && msg.contains("tri.bin"), "{msg}");
+    assert!(msg.contains("glTF buffer 0: ") && msg.contains("tri.bin"), "{msg}");
     write(dir.path(), "tri.bin", &[0; 10]);
     let msg = error_of(&p);
     assert!(msg.contains("tri.bin"), "{msg}");
+    // gltf itself panics on a URI that percent-decodes to invalid UTF-8.
+    let json = std::fs::read_to_string(&p).unwrap().replace("tri.bin", "%FF.bin");
+    let msg = error_of(&write(dir.path(), "ff.gltf", json.as_bytes()));
+    assert!(msg.contains("does not decode to UTF-8"), "{msg}");
+    // A device would be read forever.
+    if Path::new("/dev/zero").exists() {
+        let json = std::fs::read_to_string(&p).unwrap().replace("tri.bin", "file:///dev/zero");
+        let msg = error_of(&write(dir.path(), "zero.gltf", json.as_bytes()));
+        assert!(msg.contains("/dev/zero is not a regular file"), "{msg}");
+    }
 }
 
 #[test]
@@ -710,7 +720,20 @@ impl Rng {
 fn mutate(rng: &mut Rng, base: &[u8]) -> Vec<u8> {
     let mut b = base.to_vec();
     for _ in 0..1 + rng.below(8) {
-        match rng.below(4) {
+        match rng.below(5) {
+            // Replace a number with one chosen to hit limits (indices, counts, offsets).
+            4 => {
+                let digits: Vec<usize> = (0..b.len()).filter(|&i| b[i].is_ascii_digit()).collect();
+                if digits.is_empty() {
+                    continue;
+                }
+                let start = digits[rng.below(digits.len())];
+                let end = (start..b.len()).find(|&i| !b[i].is_ascii_digit()).unwrap_or(b.len());
+                let v: &[u8] =
+                    [&b"0"[..], b"1", b"2", b"3", b"7", b"255", b"65535", b"4294967295", b"18446744073709551616"]
+                        [rng.below(9)];
+                b.splice(start..end, v.iter().copied());
+            }
             0 if !b.is_empty() => {
                 let i = rng.below(b.len());
                 b[i] = rng.next() as u8;
