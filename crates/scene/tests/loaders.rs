@@ -3,8 +3,65 @@
 //! parser, and the real models of `shared/scenes` with their published counts.
 
 use dynray_scene::{load_file, load_file_report, LightKind, LoadError, Scene};
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
 use std::io::Write;
 use std::path::{Path, PathBuf};
+
+// ---------------------------------------------------------------------------------------
+// allocation meter: "fails fast without allocating" is checked, not assumed
+
+/// The system allocator, counting live bytes per thread so a test can measure the peak
+/// its own loading reached while other tests run on other threads.
+struct Metered;
+
+thread_local! {
+    static LIVE: Cell<isize> = const { Cell::new(0) };
+    static PEAK: Cell<isize> = const { Cell::new(0) };
+}
+
+fn track(delta: isize) {
+    // `try_with`: allocations during thread teardown find the slots gone; skip them.
+    let _ = LIVE.try_with(|live| {
+        let now = live.get() + delta;
+        live.set(now);
+        let _ = PEAK.try_with(|peak| peak.set(peak.get().max(now)));
+    });
+}
+
+// SAFETY: every call forwards to `System` with the caller's arguments unchanged; the
+// bookkeeping touches only const-initialised thread-locals, which never allocate.
+unsafe impl GlobalAlloc for Metered {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        let p = unsafe { System.alloc(layout) };
+        if !p.is_null() {
+            track(layout.size() as isize);
+        }
+        p
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) };
+        track(-(layout.size() as isize));
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        let p = unsafe { System.realloc(ptr, layout, new_size) };
+        if !p.is_null() {
+            track(new_size as isize - layout.size() as isize);
+        }
+        p
+    }
+}
+
+#[global_allocator]
+static METER: Metered = Metered;
+
+/// Peak bytes allocated (above the level at the start) by this thread while `f` runs.
+fn peak_bytes(f: impl FnOnce()) -> usize {
+    let start = LIVE.with(Cell::get);
+    PEAK.with(|p| p.set(start));
+    f();
+    (PEAK.with(Cell::get) - start).max(0) as usize
+}
 
 // ---------------------------------------------------------------------------------------
 // helpers
@@ -367,6 +424,21 @@ fn absurd_counts_fail_fast_without_allocating() {
     let rows = vec![vtx(0.0, 0.0, 0.0), vtx(1.0, 0.0, 0.0), vtx(0.0, 1.0, 0.0), vec![V::U32(u32::MAX), V::U32(0)]];
     let p = write(dir.path(), "list.ply", &ply(Enc::Be, &h, &rows));
     assert!(error_of(&p).contains("file ends inside `face` element 0"));
+    // None of these may allocate anywhere near what the counts claim (the meter itself
+    // is checked on a 2 MiB buffer first).
+    assert!(peak_bytes(|| drop(std::hint::black_box(vec![1u8; 2 << 20]))) >= 2 << 20);
+    let h =
+        format!("element vertex 99999999999\n{XYZ}element face 99999999999\nproperty list uint uint vertex_indices\n");
+    for enc in [Enc::Ascii, Enc::Le, Enc::Be] {
+        let p = write(dir.path(), "huge.ply", &ply(enc, &h, &[vtx(0.0, 0.0, 0.0)]));
+        let peak = peak_bytes(|| assert!(load_file(&p).is_err()));
+        assert!(peak < 1 << 20, "{peak} bytes allocated for a {}-byte file", std::fs::metadata(&p).unwrap().len());
+    }
+    let peak = peak_bytes(|| assert!(load_file(&dir.path().join("list.ply")).is_err()));
+    assert!(peak < 1 << 20, "{peak} bytes for a list claiming 4 billion indices");
+    let p = gltf_triangle(dir.path(), "huge.gltf", u32::MAX as usize, "", "");
+    let peak = peak_bytes(|| assert!(load_file(&p).is_err()));
+    assert!(peak < 1 << 20, "{peak} bytes for a glTF accessor claiming 4 billion vertices");
     // A count too large even for u64.
     let p = write(dir.path(), "big.ply", b"ply\nformat ascii 1.0\nelement vertex 1e99\nend_header\n");
     assert!(error_of(&p).contains(":3: element count `1e99`"));
