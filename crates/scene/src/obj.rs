@@ -44,8 +44,9 @@
 //! # Emitters
 //! A material with a non-black `Ke` is an area light. dynray has no area lights in the
 //! Whitted model, so each actor using it becomes a point light at the actor's
-//! area-weighted centroid, nudged off the surface along its mean normal by 0.1 % of the
-//! scene's diagonal (so shadow rays towards it do not stop on the emitter itself), with
+//! area-weighted centroid, nudged off the surface along its mean normal (flipped to face
+//! the scene's centre) by 0.1 % of the scene's diagonal (so shadow rays towards it do not
+//! stop on the emitter itself), with
 //! colour `Ke × area` and inverse-square falloff: the radiant intensity of a small
 //! Lambertian emitter of radiance `Ke` seen along its normal. (The Cornell box's
 //! `Ke 17 12 4` over its 0.47 × 0.38 lamp gives about 3.0, 2.1, 0.7.) The emitter's material gets
@@ -143,16 +144,17 @@ pub fn load(path: &Path) -> Result<LoadReport, LoadError> {
     if scene.actors.is_empty() {
         return Err(LoadError::Mesh { path: path.to_path_buf(), source: MeshError::Empty });
     }
-    let nudge = scene.bounds().extent().length() * 1e-3;
+    let bounds = scene.bounds();
+    let nudge = bounds.extent().length() * 1e-3;
     for (actor, ke) in emitters {
-        scene.lights.push(emitter_light(&scene.actors[actor].mesh, ke, nudge));
+        scene.lights.push(emitter_light(&scene.actors[actor].mesh, ke, nudge, bounds.center()));
     }
     scene.add_default_light();
     Ok(LoadReport { scene, warnings })
 }
 
 /// The point light standing in for an emissive actor (module docs, "Emitters").
-fn emitter_light(mesh: &TriangleMesh, ke: Color, nudge: f32) -> Light {
+fn emitter_light(mesh: &TriangleMesh, ke: Color, nudge: f32, scene_center: Vec3) -> Light {
     let (mut area, mut centroid, mut normal) = (0.0f32, Vec3::ZERO, Vec3::ZERO);
     for t in mesh.triangles() {
         let n = (t.p1 - t.p0).cross(t.p2 - t.p0);
@@ -162,7 +164,14 @@ fn emitter_light(mesh: &TriangleMesh, ke: Color, nudge: f32) -> Light {
         normal += n;
     }
     let (position, color) = if area > 0.0 {
-        (centroid / area + normal.normalize_or_zero() * nudge, ke * area)
+        let centroid = centroid / area;
+        // Off the side that faces the scene, whatever the emitter's winding: a lamp
+        // wound outwards would otherwise put its light between itself and the ceiling.
+        let mut n = normal.normalize_or_zero();
+        if n.dot(scene_center - centroid) < 0.0 {
+            n = -n;
+        }
+        (centroid + n * nudge, ke * area)
     } else {
         // Degenerate emitter: no area to weigh by, so the vertex mean and the bare colour.
         let mean = mesh.positions.iter().map(|p| Vec3::from_array(*p)).sum::<Vec3>() / mesh.vertex_count() as f32;

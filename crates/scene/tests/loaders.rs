@@ -760,6 +760,30 @@ fn obj_materials_groups_normals_and_missing_library() {
 }
 
 #[test]
+fn obj_emitters_become_point_lights_on_the_side_facing_the_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    write(dir.path(), "l.mtl", b"newmtl lamp\nKd 1 1 1\nKe 2 2 2\nnewmtl white\nKd 1 1 1\n");
+    // Floor 4x4 at y = 0; two 1x1 lamps at y = 2, one wound facing up (away from the
+    // floor), one facing down.
+    let obj = b"mtllib l.mtl\n\
+        v -2 0 -2\nv 2 0 -2\nv 2 0 2\nv -2 0 2\n\
+        v -1.5 2 -0.5\nv -0.5 2 -0.5\nv -0.5 2 0.5\nv -1.5 2 0.5\n\
+        v 0.5 2 -0.5\nv 0.5 2 0.5\nv 1.5 2 0.5\nv 1.5 2 -0.5\n\
+        g floor\nusemtl white\nf 1 2 3 4\n\
+        g up\nusemtl lamp\nf 8 7 6 5\n\
+        g down\nusemtl lamp\nf 9 10 11 12\n";
+    let s = load_file(&write(dir.path(), "lamps.obj", obj)).unwrap();
+    assert_eq!(s.lights.len(), 2, "one light per emitting actor, no default light");
+    for (light, x) in s.lights.iter().zip([-1.0, 1.0]) {
+        let LightKind::Point { position, falloff } = light.kind else { panic!() };
+        assert_eq!(falloff, 2);
+        assert!((position.x - x).abs() < 1e-6 && position.z.abs() < 1e-6, "{position}");
+        assert!(position.y < 2.0 && position.y > 1.99, "below its lamp, towards the floor: {position}");
+        assert_eq!(light.color, glam::Vec3::splat(2.0), "Ke x area 1");
+    }
+}
+
+#[test]
 fn obj_tolerates_tabs_weights_and_partly_coloured_vertices() {
     let dir = tempfile::tempdir().unwrap();
     write(dir.path(), "t.mtl", b"newmtl\tred one\nKd 1 0 0\n");
