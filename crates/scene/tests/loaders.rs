@@ -771,7 +771,7 @@ fn obj_emitters_become_point_lights_on_the_side_facing_the_scene() {
         v 0.5 2 -0.5\nv 0.5 2 0.5\nv 1.5 2 0.5\nv 1.5 2 -0.5\n\
         g floor\nusemtl white\nf 1 2 3 4\n\
         g up\nusemtl lamp\nf 8 7 6 5\n\
-        g down\nusemtl lamp\nf 9 10 11 12\n";
+        g down\nusemtl lamp\nf 12 11 10 9\n";
     let s = load_file(&write(dir.path(), "lamps.obj", obj)).unwrap();
     assert_eq!(s.lights.len(), 2, "one light per emitting actor, no default light");
     for (light, x) in s.lights.iter().zip([-1.0, 1.0]) {
