@@ -19,8 +19,9 @@
 //!   Primitives without a material get [`Material::default`].
 //! - Every accessor dynray reads is checked before reading (type, component type,
 //!   stride, and that `offset + stride × (count - 1) + size` lies inside its buffer view
-//!   and buffer) because the gltf crate slices without such checks in places, and a
-//!   cycle in the node graph is an error rather than an endless walk. External buffer
+//!   and buffer) because the gltf crate slices without such checks in places. A node
+//!   reached twice (a cycle, or a child shared by two parents) is an error rather than an
+//!   endless or exponential walk. External buffer
 //!   URIs must name regular files (no devices), and bad attribute indices are caught
 //!   before gltf-json's validation, which would panic on them.
 
@@ -82,13 +83,17 @@ pub fn load(path: &Path) -> Result<LoadReport, LoadError> {
     let mut instances: Vec<(Option<String>, gltf::Mesh, glam::Mat4)> = Vec::new();
     match document.default_scene().or_else(|| document.scenes().next()) {
         Some(s) => {
-            let limit = document.nodes().len();
-            let mut stack: Vec<(gltf::Node, glam::Mat4, usize)> =
-                s.nodes().map(|n| (n, glam::Mat4::IDENTITY, 0)).collect();
+            // glTF requires disjoint strict trees. Reaching a node twice means a cycle (an
+            // endless walk) or a shared child (exponentially many instances): both errors.
+            let mut seen = vec![false; document.nodes().len()];
+            let mut stack: Vec<(gltf::Node, glam::Mat4)> = s.nodes().map(|n| (n, glam::Mat4::IDENTITY)).collect();
             stack.reverse();
-            while let Some((node, parent, depth)) = stack.pop() {
-                if depth >= limit {
-                    return Err(perr(format!("node {} is its own ancestor: the node graph has a cycle", node.index())));
+            while let Some((node, parent)) = stack.pop() {
+                if std::mem::replace(&mut seen[node.index()], true) {
+                    return Err(perr(format!(
+                        "node {} is reached twice: the node hierarchy is not a set of trees (a cycle or a shared child)",
+                        node.index()
+                    )));
                 }
                 let world = parent * glam::Mat4::from_cols_array_2d(&node.transform().matrix());
                 if let Some(mesh) = node.mesh() {
@@ -96,7 +101,7 @@ pub fn load(path: &Path) -> Result<LoadReport, LoadError> {
                     instances.push((name, mesh, world));
                 }
                 let children: Vec<_> = node.children().collect();
-                stack.extend(children.into_iter().rev().map(|c| (c, world, depth + 1)));
+                stack.extend(children.into_iter().rev().map(|c| (c, world)));
             }
         }
         None => {

@@ -702,7 +702,15 @@ fn gltf_node_cycle_is_an_error_not_a_hang() {
         r#""nodes":[{"mesh":0,"children":[1]},{"children":[0]}]"#,
     );
     let p = write(dir.path(), "cycle.gltf", json.as_bytes());
-    error_of(&p);
+    assert!(error_of(&p).contains("node 0 is reached twice"));
+    // 40 levels of a node listing the next one twice: 2^40 paths if walked naively.
+    let mut nodes: Vec<String> = (0..40).map(|i| format!(r#"{{"children":[{0},{0}]}}"#, i + 1)).collect();
+    nodes.push(r#"{"mesh":0}"#.into());
+    let json = std::fs::read_to_string(gltf_triangle(dir.path(), "d.gltf", 3, "", ""))
+        .unwrap()
+        .replace(r#""nodes":[{"mesh":0,"translation":[0,0,5]}]"#, &format!(r#""nodes":[{}]"#, nodes.join(",")));
+    let p = write(dir.path(), "dag.gltf", json.as_bytes());
+    assert!(error_of(&p).contains("is reached twice"));
 }
 
 // ---------------------------------------------------------------------------------------
