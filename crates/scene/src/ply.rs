@@ -314,8 +314,10 @@ fn is_index_list(p: &Property) -> bool {
 }
 
 fn read_ascii(path: &Path, h: &Header, body: &[u8], sink: &mut Sink) -> Result<(), LoadError> {
-    let text = std::str::from_utf8(body)
-        .map_err(|e| LoadError::parse(path, None, format!("ASCII body is not text (byte {})", e.valid_up_to())))?;
+    let text = std::str::from_utf8(body).map_err(|e| {
+        let line = h.body_line + body[..e.valid_up_to()].iter().filter(|&&b| b == b'\n').count();
+        LoadError::parse(path, Some(line), "ASCII body is not UTF-8 text")
+    })?;
     let mut lines = text.lines().enumerate().map(|(i, l)| (h.body_line + i, l)).filter(|(_, l)| !l.trim().is_empty());
     for el in &h.elements {
         if el.props.is_empty() {

@@ -521,6 +521,8 @@ fn malformed_ply_headers_point_at_the_line() {
     assert!(error_of(&p).contains(":9: expected a number for y, found `zero`"));
     let p = write(dir.path(), "short.ply", &[ply(Enc::Ascii, &h, &[]), b"0 0\n".to_vec()].concat());
     assert!(error_of(&p).contains(":9: `vertex` element 0 is missing its z"));
+    let p = write(dir.path(), "bin.ply", &[ply(Enc::Ascii, &h, &[]), b"0 0 0\n\n1 \xff 0\n".to_vec()].concat());
+    assert!(error_of(&p).contains(":11: ASCII body is not UTF-8 text"));
     let p = write(dir.path(), "bad.ply.gz", b"\x1f\x8b\x08\x00garbage");
     assert!(error_of(&p).contains("corrupt gzip data"));
 }
