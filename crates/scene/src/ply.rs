@@ -198,6 +198,8 @@ struct Sink<'a> {
     positions: Vec<[f32; 3]>,
     normals: Vec<[f32; 3]>,
     has_normals: bool,
+    /// Vertices the header declares.
+    vertex_count: u64,
     indices: Vec<[u32; 3]>,
     poly: Vec<u32>,
     cur_pos: [f32; 3],
@@ -222,7 +224,7 @@ impl<'a> Sink<'a> {
         let has_normals = ["nx", "ny", "nz"].iter().all(|n| vertex.props.iter().any(|p| p.name() == *n));
         let face = h.elements.iter().find(|e| e.name == "face");
         if let Some(face) = face {
-            if !face.props.iter().any(|p| is_index_list(p)) {
+            if !face.props.iter().any(is_index_list) {
                 return Err(LoadError::parse(path, Some(face.line), "face element has no `vertex_indices` list"));
             }
         }
@@ -231,6 +233,7 @@ impl<'a> Sink<'a> {
             positions: Vec::new(),
             normals: Vec::new(),
             has_normals,
+            vertex_count: vertex.count,
             indices: Vec::new(),
             poly: Vec::new(),
             cur_pos: [0.0; 3],
@@ -272,11 +275,13 @@ impl<'a> Sink<'a> {
     /// Fan-triangulates the polygon gathered in `poly`; faces of fewer than three
     /// vertices produce no triangle.
     fn end_face(&mut self, line: Option<usize>, face: u64) -> Result<(), LoadError> {
-        if let Some(&bad) = self.poly.iter().find(|&&i| i as usize >= self.positions.len()) {
+        // Checked against the declared count, not the vertices read so far, so that a
+        // file declaring `face` before `vertex` reads; a short vertex section fails anyway.
+        if let Some(&bad) = self.poly.iter().find(|&&i| i as u64 >= self.vertex_count) {
             return Err(LoadError::parse(
                 self.path,
                 line,
-                format!("face {face} uses vertex {bad}, but the file has {} vertices", self.positions.len()),
+                format!("face {face} uses vertex {bad}, but the file has {} vertices", self.vertex_count),
             ));
         }
         for k in 1..self.poly.len().saturating_sub(1) {
@@ -309,10 +314,15 @@ fn is_index_list(p: &Property) -> bool {
 }
 
 fn read_ascii(path: &Path, h: &Header, body: &[u8], sink: &mut Sink) -> Result<(), LoadError> {
-    let text = std::str::from_utf8(body)
-        .map_err(|e| LoadError::parse(path, None, format!("ASCII body is not text (byte {})", e.valid_up_to())))?;
+    let text = std::str::from_utf8(body).map_err(|e| {
+        let line = h.body_line + body[..e.valid_up_to()].iter().filter(|&&b| b == b'\n').count();
+        LoadError::parse(path, Some(line), "ASCII body is not UTF-8 text")
+    })?;
     let mut lines = text.lines().enumerate().map(|(i, l)| (h.body_line + i, l)).filter(|(_, l)| !l.trim().is_empty());
     for el in &h.elements {
+        if el.props.is_empty() {
+            continue; // occupies no text; its count may be anything (see read_binary)
+        }
         let roles = sink.roles(el);
         for n in 0..el.count {
             let Some((line_no, text_line)) = lines.next() else {
@@ -369,6 +379,11 @@ fn end_element(sink: &mut Sink, el: &Element, line: Option<usize>, n: u64) -> Re
 fn read_binary<const LE: bool>(path: &Path, h: &Header, body: &[u8], sink: &mut Sink) -> Result<(), LoadError> {
     let mut at = 0usize;
     for el in &h.elements {
+        if el.props.is_empty() {
+            // Zero bytes per element: skipping it whole keeps a claim of 10^11 such
+            // elements from looping for minutes (vertex and face always have properties).
+            continue;
+        }
         let roles = sink.roles(el);
         for n in 0..el.count {
             let truncated = || {

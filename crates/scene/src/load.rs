@@ -1,0 +1,122 @@
+//! One entry point for mesh and scene files: picks the loader from the file name and
+//! turns what it reads into a [`Scene`].
+//!
+//! Formats, chosen by extension (case-insensitive): `.ply` and `.ply.gz` ([`crate::ply`]),
+//! `.obj` with its `.mtl` ([`crate::obj`]), `.gltf` and `.glb` ([`crate::gltf_loader`]).
+//!
+//! What every loaded file becomes: its meshes as actors (already in world space), its
+//! materials (or one default material when it has none), its lights (or one default point
+//! light, [`Scene::add_default_light`], when it has none), and `camera: None`, which
+//! frames the scene's bounding box at render time.
+//!
+//! Problems that do not stop loading (a missing `.mtl` file, an unknown material name, a
+//! glTF point primitive that is skipped) are returned as [`Warning`]s in a [`LoadReport`]
+//! by [`load_file_report`]; [`load_file`] drops them. A library does not print: the caller
+//! (the binary) decides whether to show them.
+
+use crate::{LoadError, Material, Scene};
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+/// A problem that did not stop loading; the scene was completed with a documented default.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Warning {
+    /// The file the problem is in (the `.mtl` for a material library problem).
+    pub path: PathBuf,
+    /// 1-based line, for text formats.
+    pub line: Option<usize>,
+    /// What happened and what was used instead.
+    pub message: String,
+}
+
+impl Warning {
+    /// A warning about `path` at `line`.
+    pub fn new(path: &Path, line: Option<usize>, message: impl Into<String>) -> Self {
+        Self { path: path.to_path_buf(), line, message: message.into() }
+    }
+}
+
+impl fmt::Display for Warning {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.path.display())?;
+        if let Some(l) = self.line {
+            write!(f, ":{l}")?;
+        }
+        write!(f, ": {}", self.message)
+    }
+}
+
+/// A loaded scene and the warnings met while loading it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LoadReport {
+    /// The scene.
+    pub scene: Scene,
+    /// Problems that did not stop loading, in the order they were found.
+    pub warnings: Vec<Warning>,
+}
+
+/// The file formats [`load_file`] reads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FileFormat {
+    /// Stanford PLY, ASCII or binary, optionally gzip-compressed.
+    Ply,
+    /// Wavefront OBJ with MTL material libraries.
+    Obj,
+    /// glTF 2.0, JSON (`.gltf`) or binary (`.glb`).
+    Gltf,
+}
+
+impl FileFormat {
+    /// The format named by `path`'s extension (case-insensitive), if dynray reads it.
+    pub fn of(path: &Path) -> Option<FileFormat> {
+        let name = path.file_name()?.to_string_lossy().to_ascii_lowercase();
+        let ends = |s: &str| name.len() > s.len() && name.ends_with(s);
+        if ends(".ply") || ends(".ply.gz") {
+            Some(FileFormat::Ply)
+        } else if ends(".obj") {
+            Some(FileFormat::Obj)
+        } else if ends(".gltf") || ends(".glb") {
+            Some(FileFormat::Gltf)
+        } else {
+            None
+        }
+    }
+}
+
+/// Loads a mesh or scene file into a [`Scene`]; warnings are dropped (see
+/// [`load_file_report`] to get them).
+pub fn load_file(path: &Path) -> Result<Scene, LoadError> {
+    load_file_report(path).map(|r| r.scene)
+}
+
+/// Loads a mesh or scene file into a [`Scene`] and returns the warnings met on the way.
+pub fn load_file_report(path: &Path) -> Result<LoadReport, LoadError> {
+    let format = FileFormat::of(path).ok_or_else(|| LoadError::UnknownFormat { path: path.to_path_buf() })?;
+    match format {
+        FileFormat::Ply => {
+            let mesh = crate::ply::load(path)?;
+            let name = path.file_name().map(|n| n.to_string_lossy().into_owned());
+            Ok(LoadReport { scene: Scene::from_mesh(name, mesh, Material::default()), warnings: Vec::new() })
+        }
+        FileFormat::Obj => crate::obj::load(path),
+        FileFormat::Gltf => crate::gltf_loader::load(path),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn extensions_are_case_insensitive_and_need_a_stem() {
+        assert_eq!(FileFormat::of(Path::new("a/B.PLY")), Some(FileFormat::Ply));
+        assert_eq!(FileFormat::of(Path::new("dragon.ply.GZ")), Some(FileFormat::Ply));
+        assert_eq!(FileFormat::of(Path::new("box.Obj")), Some(FileFormat::Obj));
+        assert_eq!(FileFormat::of(Path::new("duck.glb")), Some(FileFormat::Gltf));
+        assert_eq!(FileFormat::of(Path::new("duck.gltf")), Some(FileFormat::Gltf));
+        assert_eq!(FileFormat::of(Path::new("x.gz")), None);
+        assert_eq!(FileFormat::of(Path::new(".obj")), None);
+        assert_eq!(FileFormat::of(Path::new("scene.txt")), None);
+        assert_eq!(FileFormat::of(Path::new("")), None);
+    }
+}
