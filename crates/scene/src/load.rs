@@ -2,7 +2,8 @@
 //! turns what it reads into a [`Scene`].
 //!
 //! Formats, chosen by extension (case-insensitive): `.ply` and `.ply.gz` ([`crate::ply`]),
-//! `.obj` with its `.mtl` ([`crate::obj`]), `.gltf` and `.glb` ([`crate::gltf_loader`]).
+//! `.obj` with its `.mtl` ([`crate::obj`]), `.gltf` and `.glb` ([`crate::gltf_loader`]),
+//! and scene files in seed 003's language, `.scn` ([`crate::scn`]).
 //!
 //! What every loaded file becomes: its meshes as actors (already in world space), its
 //! materials (or one default material when it has none), its lights (or one default point
@@ -64,6 +65,8 @@ pub enum FileFormat {
     Obj,
     /// glTF 2.0, JSON (`.gltf`) or binary (`.glb`).
     Gltf,
+    /// A scene in seed 003's scene language.
+    Scn,
 }
 
 impl FileFormat {
@@ -77,6 +80,8 @@ impl FileFormat {
             Some(FileFormat::Obj)
         } else if ends(".gltf") || ends(".glb") {
             Some(FileFormat::Gltf)
+        } else if ends(".scn") {
+            Some(FileFormat::Scn)
         } else {
             None
         }
@@ -100,6 +105,7 @@ pub fn load_file_report(path: &Path) -> Result<LoadReport, LoadError> {
         }
         FileFormat::Obj => crate::obj::load(path),
         FileFormat::Gltf => crate::gltf_loader::load(path),
+        FileFormat::Scn => Ok(LoadReport { scene: crate::scn::load_scn(path)?, warnings: Vec::new() }),
     }
 }
 
@@ -116,6 +122,7 @@ mod tests {
         assert_eq!(FileFormat::of(Path::new("duck.gltf")), Some(FileFormat::Gltf));
         assert_eq!(FileFormat::of(Path::new("x.gz")), None);
         assert_eq!(FileFormat::of(Path::new(".obj")), None);
+        assert_eq!(FileFormat::of(Path::new("whitted.SCN")), Some(FileFormat::Scn));
         assert_eq!(FileFormat::of(Path::new("scene.txt")), None);
         assert_eq!(FileFormat::of(Path::new("")), None);
     }
