@@ -7,12 +7,14 @@
 #![deny(missing_docs)]
 
 mod accel;
+pub mod bih;
 pub mod brute;
 mod counters;
 mod error;
 mod registry;
 
 pub use accel::{intersect_batch, occluded_batch, Accel, AccelStats};
+pub use bih::{Bih, BihParams};
 pub use brute::Brute;
 pub use counters::{Counter, NoCount, TraversalCounts};
 pub use error::BuildError;
