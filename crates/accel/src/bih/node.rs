@@ -11,12 +11,18 @@ use bytemuck::{Pod, Zeroable};
 ///   because the tree is stored in depth-first pre-order. For a leaf the index is the
 ///   first entry of the leaf's run in the primitive arrays (`Bih::tris`/`prim_ids`).
 /// - `count`: number of triangles of a leaf (never 0: the builder never stores an empty
-///   child, see `build.rs`); 0 and unused for interior nodes.
+///   leaf, see `build.rs`); 0 and unused for interior nodes.
 /// - `clip`: interior only. `clip[0]` is the left child's upper bound on the split axis
 ///   (the largest coordinate of any triangle in the left subtree), `clip[1]` the right
 ///   child's lower bound (the smallest coordinate of any triangle in the right subtree).
 ///   The two intervals may overlap (`clip[0] > clip[1]`) or leave a gap that traversal
 ///   skips. Both are zero in a leaf.
+/// - One-child node (an empty-space cut, `BihParams::empty_cut`): the right index equals
+///   `parent + 1`, i.e. both children are the same node, and one plane is infinite:
+///   `clip = [c, +∞]` keeps the child below `c`, `clip = [−∞, c]` keeps it above `c`.
+///   Traversal needs no special case: the infinite plane gives the missing side an
+///   empty interval (for a ray parallel to the axis at worst a redundant, harmless
+///   second visit of the child).
 ///
 /// Indices are therefore limited to `2^30 - 1` ([`MAX_INDEX`]); the builder checks this.
 #[repr(C)]

@@ -42,6 +42,18 @@ fn refit_subtree(nodes: &mut [BihNode], base: u32, tris: &[Triangle]) -> Aabb {
         let first = n.index() as usize;
         return tris[first..first + n.count as usize].iter().fold(Aabb::EMPTY, |b, t| b.union(&t.bounds()));
     }
+    let a = n.axis();
+    if n.index() == base + 1 {
+        // One-child node: keep the infinite plane, move the other to the child's extent.
+        let cb = refit_subtree(&mut nodes[1..], base + 1, tris);
+        let c = &mut nodes[0].clip;
+        if c[1] == f32::INFINITY {
+            c[0] = cb.max[a];
+        } else {
+            c[1] = cb.min[a];
+        }
+        return cb;
+    }
     let right_local = (n.index() - base) as usize;
     let (head, rest) = nodes.split_at_mut(1);
     let (left, right) = rest.split_at_mut(right_local - 1);
@@ -50,7 +62,6 @@ fn refit_subtree(nodes: &mut [BihNode], base: u32, tris: &[Triangle]) -> Aabb {
     } else {
         (refit_subtree(left, base + 1, tris), refit_subtree(right, n.index(), tris))
     };
-    let a = n.axis();
     head[0].clip = [lb.max[a], rb.min[a]];
     lb.union(&rb)
 }

@@ -16,7 +16,8 @@ pub struct InvalidBih {
 
 impl Bih {
     /// Checks every invariant traversal relies on: the pre-order layout (left child =
-    /// parent + 1, right child after the left subtree), leaves covering the primitive
+    /// parent + 1, right child after the left subtree, or = parent + 1 in a one-child
+    /// node whose other plane is infinite), leaves covering the primitive
     /// slots exactly once and in order, no empty leaf, every triangle inside its parents'
     /// clip planes, the scene box holding everything, depth within the traversal stack,
     /// and `prim_ids` a permutation of the mesh's triangles.
@@ -73,11 +74,23 @@ impl Bih {
             return err(format!("interior node with count {}", n.count));
         }
         let (lend, lb, ld) = self.check(i + 1, depth + 1, next_slot)?;
+        let a = n.axis();
+        if n.index() as usize == i + 1 {
+            // One-child node: exactly one plane is infinite and the other bounds the child.
+            let ok = match (n.clip[0] == f32::NEG_INFINITY, n.clip[1] == f32::INFINITY) {
+                (false, true) => lb.max[a] <= n.clip[0],
+                (true, false) => lb.min[a] >= n.clip[1],
+                _ => false,
+            };
+            if !ok {
+                return err(format!("one-child node with clip {:?} around child {lb:?} on axis {a}", n.clip));
+            }
+            return Ok((lend, lb, ld));
+        }
         if n.index() as usize != lend {
             return err(format!("right child {} but left subtree ends at {lend}", n.index()));
         }
         let (rend, rb, rd) = self.check(lend, depth + 1, next_slot)?;
-        let a = n.axis();
         if lb.max[a] > n.clip[0] || rb.min[a] < n.clip[1] {
             return err(format!(
                 "clip planes {:?} on axis {a} do not bound the children ({} / {})",
