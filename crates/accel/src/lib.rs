@@ -11,6 +11,7 @@ pub mod bih;
 pub mod brute;
 mod counters;
 mod error;
+pub mod grid;
 mod registry;
 
 pub use accel::{intersect_batch, occluded_batch, Accel, AccelStats};
@@ -18,4 +19,5 @@ pub use bih::{Bih, BihParams};
 pub use brute::Brute;
 pub use counters::{Counter, NoCount, TraversalCounts};
 pub use error::BuildError;
+pub use grid::{Grid, GridParams};
 pub use registry::AccelKind;
