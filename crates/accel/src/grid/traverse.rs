@@ -20,6 +20,7 @@ use super::shape::GridShape;
 use super::Grid;
 use crate::Counter;
 use dynray_geom::{Hit, PreparedRay, Ray};
+use std::cmp::Ordering;
 
 /// Relative widening of cell-crossing distances, the value of `dynray_geom`'s slab test
 /// (`SLAB_MARGIN`, private to its module): see `Aabb::clip`.
@@ -91,7 +92,10 @@ impl Grid {
             let exit = d.next[m];
             // The ray's interval ends in this cell, or everything after it is farther
             // than the best hit (equal is not farther: a lower index may still win).
-            if !(exit <= t1) || exit * if exit > 0.0 { 1.0 - CROSS_MARGIN } else { 1.0 + CROSS_MARGIN } > cull {
+            // (NaN exit, from a NaN direction, also ends the walk.)
+            let next_entry = exit * if exit > 0.0 { 1.0 - CROSS_MARGIN } else { 1.0 + CROSS_MARGIN };
+            let ends_here = !matches!(exit.partial_cmp(&t1), Some(Ordering::Less | Ordering::Equal));
+            if ends_here || next_entry > cull {
                 return;
             }
             let tie = exit.abs() * TIE_MARGIN;
@@ -123,13 +127,13 @@ impl Grid {
     /// The cell reached by stepping every axis in the bit set `axes`, if inside.
     fn neighbour(&self, d: &Dda, axes: u32) -> Option<[u32; 3]> {
         let mut c = d.cell;
-        for a in 0..3 {
+        for (a, ca) in c.iter_mut().enumerate() {
             if axes & 1 << a != 0 {
-                let k = c[a] as i64 + d.step[a] as i64;
+                let k = *ca as i64 + d.step[a] as i64;
                 if k < 0 || k >= self.shape.res[a] as i64 {
                     return None;
                 }
-                c[a] = k as u32;
+                *ca = k as u32;
             }
         }
         Some(c)
