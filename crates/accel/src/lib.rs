@@ -7,13 +7,17 @@
 #![deny(missing_docs)]
 
 mod accel;
+pub mod bih;
 pub mod brute;
 mod counters;
 mod error;
+pub mod grid;
 mod registry;
 
 pub use accel::{intersect_batch, occluded_batch, Accel, AccelStats};
+pub use bih::{Bih, BihParams};
 pub use brute::Brute;
 pub use counters::{Counter, NoCount, TraversalCounts};
 pub use error::BuildError;
+pub use grid::{Grid, GridParams};
 pub use registry::AccelKind;

@@ -1,6 +1,6 @@
 //! Choosing a structure by name (`--accel NAME`) and building it with default parameters.
 
-use crate::{Accel, Brute, BuildError};
+use crate::{Accel, Bih, BihParams, Brute, BuildError, Grid, GridParams};
 use dynray_geom::TriangleMesh;
 
 /// Every structure the engine offers, by the name `--accel` accepts.
@@ -8,16 +8,22 @@ use dynray_geom::TriangleMesh;
 pub enum AccelKind {
     /// [`Brute`]: every triangle for every ray (the oracle).
     Brute,
+    /// [`Bih`]: Bounding Interval Hierarchy (seed 000), default [`BihParams`].
+    Bih,
+    /// [`Grid`]: uniform grid (seed 002's baseline), default [`GridParams`].
+    Grid,
 }
 
 impl AccelKind {
     /// All kinds, in the order listings show them.
-    pub const ALL: &'static [AccelKind] = &[AccelKind::Brute];
+    pub const ALL: &'static [AccelKind] = &[AccelKind::Brute, AccelKind::Bih, AccelKind::Grid];
 
     /// The `--accel` spelling.
     pub fn name(self) -> &'static str {
         match self {
             AccelKind::Brute => "brute",
+            AccelKind::Bih => "bih",
+            AccelKind::Grid => "grid",
         }
     }
 
@@ -25,6 +31,8 @@ impl AccelKind {
     pub fn build(self, mesh: &TriangleMesh) -> Result<Box<dyn Accel>, BuildError> {
         Ok(match self {
             AccelKind::Brute => Box::new(Brute::build(mesh)?),
+            AccelKind::Bih => Box::new(Bih::build(mesh, &BihParams::default())?),
+            AccelKind::Grid => Box::new(Grid::build(mesh, &GridParams::default())?),
         })
     }
 }
