@@ -12,7 +12,7 @@ mod mesh;
 mod ray;
 mod triangle;
 
-pub use aabb::Aabb;
+pub use aabb::{Aabb, SLAB_MARGIN};
 pub use glam::{Vec2, Vec3};
 pub use hit::Hit;
 pub use mesh::{MeshError, TriangleMesh};

@@ -15,11 +15,10 @@ use super::Bih;
 use crate::Counter;
 use dynray_geom::{Hit, PreparedRay, Ray};
 
-/// Relative widening of the plane distances, the value `dynray_geom`'s slab test uses
-/// (`SLAB_MARGIN`, private to its module): the clip planes are box faces, and a plane
-/// distance must never exclude a `t` the watertight triangle test returns for a triangle
-/// on its side. See `dynray_geom::Aabb::clip` for the derivation.
-const PLANE_MARGIN: f32 = 1.0e-6;
+/// Relative widening of the plane distances, the slab test's: the clip planes are box
+/// faces, and a plane distance must never exclude a `t` the watertight triangle test
+/// returns for a triangle on its side. See `dynray_geom::Aabb::clip` for the derivation.
+const PLANE_MARGIN: f32 = dynray_geom::SLAB_MARGIN;
 
 /// Traversal stack capacity: one entry per level suffices (see [`MAX_DEPTH_LIMIT`]);
 /// `validate` checks every built tree against it.

@@ -22,9 +22,8 @@ use crate::Counter;
 use dynray_geom::{Hit, PreparedRay, Ray};
 use std::cmp::Ordering;
 
-/// Relative widening of cell-crossing distances, the value of `dynray_geom`'s slab test
-/// (`SLAB_MARGIN`, private to its module): see `Aabb::clip`.
-const CROSS_MARGIN: f32 = 1.0e-6;
+/// Relative widening of cell-crossing distances, the slab test's: see `Aabb::clip`.
+const CROSS_MARGIN: f32 = dynray_geom::SLAB_MARGIN;
 
 /// Crossings closer than this (relative) count as simultaneous: the ray passes within
 /// rounding of a cell edge. Several times the crossing error so no tie is missed.
