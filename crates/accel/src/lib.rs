@@ -10,10 +10,12 @@ mod accel;
 pub mod brute;
 mod counters;
 mod error;
+pub mod kdtree;
 mod registry;
 
 pub use accel::{intersect_batch, occluded_batch, Accel, AccelStats};
 pub use brute::Brute;
 pub use counters::{Counter, NoCount, TraversalCounts};
 pub use error::BuildError;
+pub use kdtree::{KdTree, KdTreeParams, KdTreeRopes};
 pub use registry::AccelKind;

@@ -1,6 +1,6 @@
 //! Choosing a structure by name (`--accel NAME`) and building it with default parameters.
 
-use crate::{Accel, Brute, BuildError};
+use crate::{Accel, Brute, BuildError, KdTree, KdTreeRopes};
 use dynray_geom::TriangleMesh;
 
 /// Every structure the engine offers, by the name `--accel` accepts.
@@ -8,16 +8,22 @@ use dynray_geom::TriangleMesh;
 pub enum AccelKind {
     /// [`Brute`]: every triangle for every ray (the oracle).
     Brute,
+    /// [`KdTree`]: SAH kd-tree, stack traversal.
+    KdTree,
+    /// [`KdTreeRopes`]: SAH kd-tree, stackless Ropes++ traversal.
+    KdTreeRopes,
 }
 
 impl AccelKind {
     /// All kinds, in the order listings show them.
-    pub const ALL: &'static [AccelKind] = &[AccelKind::Brute];
+    pub const ALL: &'static [AccelKind] = &[AccelKind::Brute, AccelKind::KdTree, AccelKind::KdTreeRopes];
 
     /// The `--accel` spelling.
     pub fn name(self) -> &'static str {
         match self {
             AccelKind::Brute => "brute",
+            AccelKind::KdTree => "kdtree",
+            AccelKind::KdTreeRopes => "kdtree-ropes",
         }
     }
 
@@ -25,6 +31,8 @@ impl AccelKind {
     pub fn build(self, mesh: &TriangleMesh) -> Result<Box<dyn Accel>, BuildError> {
         Ok(match self {
             AccelKind::Brute => Box::new(Brute::build(mesh)?),
+            AccelKind::KdTree => Box::new(KdTree::build(mesh)?),
+            AccelKind::KdTreeRopes => Box::new(KdTreeRopes::build(mesh)?),
         })
     }
 }
