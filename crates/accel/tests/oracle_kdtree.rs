@@ -212,6 +212,29 @@ fn extreme_aspect_ratio_scene_matches_brute_force() {
 }
 
 #[test]
+fn coordinates_near_f32_max_build_and_match() {
+    // Areas and extents overflow to infinity here; the build must neither panic nor spin,
+    // and the traversals must still agree with brute force.
+    let mut rng = SmallRng::seed_from_u64(91);
+    let mut mesh = flat_grid(10, -5.0, 0.0);
+    mesh.positions.iter_mut().for_each(|p| *p = [p[0] * 2.0e37, p[1] * 2.0e37, rng.gen_range(-1.0e38..1.0e38)]);
+    let rays: Vec<Ray> = (0..4_000)
+        .map(|i| {
+            let o = Vec3::new(rng.gen_range(-1.0e38..1.0e38), rng.gen_range(-1.0e38..1.0e38), 3.0e38);
+            let target = Vec3::new(rng.gen_range(-1.0e38..1.0e38), rng.gen_range(-1.0e38..1.0e38), 0.0);
+            let mut d = target * 0.5 - o * 0.5;
+            if i % 5 == 0 {
+                d.x = 0.0;
+            }
+            Ray::new(o, d)
+        })
+        .collect();
+    for (name, params) in KdTreeParams::presets() {
+        check_both(&mesh, &params, &rays, &format!("huge/{name}"));
+    }
+}
+
+#[test]
 fn rays_in_split_planes_match_brute_force() {
     let mesh = bunny();
     let t = KdTree::build(&mesh).unwrap();

@@ -30,6 +30,11 @@ pub fn clipped_bounds(tri: &Triangle, node: &Aabb) -> Option<Aabb> {
         }
     }
     let b = Aabb::from_points(poly[..n].iter().copied());
+    if !(b.min.is_finite() && b.max.is_finite()) {
+        // Coordinates near f32::MAX overflow the interpolation; the caller then falls back
+        // to the triangle's current box, which is conservative.
+        return None;
+    }
     let scale = node.min.abs().max(node.max.abs()) + node.extent();
     let pad = scale * (4.0 * f32::EPSILON);
     let b = Aabb::new(b.min - pad, b.max + pad).intersection(node).intersection(&tri.bounds());

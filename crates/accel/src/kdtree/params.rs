@@ -3,7 +3,7 @@
 use crate::BuildError;
 
 /// Deepest tree any preset or user may ask for. The traversal stack holds one entry per
-/// level, so this also sizes it ([`super::traverse::STACK_SIZE`]).
+/// level, so this also sizes it (`STACK_SIZE` in traverse.rs).
 pub const MAX_DEPTH_LIMIT: u32 = 60;
 
 /// How the SAH kd-tree is built. Costs are relative: only `intersection_cost /

@@ -55,7 +55,7 @@ fn optimise(tree: &Tree, mut rope: u32, face: usize, b: &Aabb) -> u32 {
         let (left, right) = (rope + 1, n.right());
         rope = if a == face_axis {
             // The neighbour lies below a min face (take its upper child) or above a max face.
-            if face % 2 == 0 {
+            if face & 1 == 0 {
                 right
             } else {
                 left

@@ -57,7 +57,7 @@ impl Tree {
         mut best: Hit,
         c: &mut C,
     ) -> Hit {
-        debug_assert!(self.depth as usize <= STACK_SIZE - 1, "depth {} exceeds the stack", self.depth);
+        debug_assert!((self.depth as usize) < STACK_SIZE, "depth {} exceeds the stack", self.depth);
         let mut stack = [Entry::default(); STACK_SIZE];
         let mut sp = 0;
         let (o, inv) = (r.ray.origin, r.inv_dir);
