@@ -135,25 +135,24 @@ fn split_box(b: &Aabb, axis: usize, pos: f32) -> (Aabb, Aabb) {
     (l, r)
 }
 
-/// Merges two sorted lists into one sorted list.
-fn merge(a: Vec<Event>, b: Vec<Event>) -> Vec<Event> {
-    if b.is_empty() {
-        return a;
-    }
-    let mut out = Vec::with_capacity(a.len() + b.len());
-    let (mut i, mut j) = (0, 0);
-    while i < a.len() && j < b.len() {
-        if event_order(&a[i], &b[j]) != Ordering::Greater {
-            out.push(a[i]);
-            i += 1;
+/// Merges sorted `b` into sorted `a`, in place from the back (no second buffer).
+fn merge(mut a: Vec<Event>, b: Vec<Event>) -> Vec<Event> {
+    let Some(&fill) = b.first() else { return a };
+    let (mut i, mut j) = (a.len(), b.len());
+    a.resize(i + j, fill);
+    for k in (0..a.len()).rev() {
+        if j == 0 {
+            break;
+        }
+        if i > 0 && event_order(&a[i - 1], &b[j - 1]) == Ordering::Greater {
+            a[k] = a[i - 1];
+            i -= 1;
         } else {
-            out.push(b[j]);
-            j += 1;
+            a[k] = b[j - 1];
+            j -= 1;
         }
     }
-    out.extend_from_slice(&a[i..]);
-    out.extend_from_slice(&b[j..]);
-    out
+    a
 }
 
 impl Builder<'_> {
@@ -286,8 +285,10 @@ impl Builder<'_> {
             }
         }
         // Keep the one-sided events in order; collect the straddlers' current boxes.
-        let mut left: Events = Default::default();
-        let mut right: Events = Default::default();
+        // At most two events per triangle and axis, plus room for the straddlers' new ones.
+        let straddling = s.straddling;
+        let mut left: Events = std::array::from_fn(|_| Vec::with_capacity(2 * (nl + straddling)));
+        let mut right: Events = std::array::from_fn(|_| Vec::with_capacity(2 * (nr + straddling)));
         let mut straddlers = Vec::new();
         for (axis, list) in ev.into_iter().enumerate() {
             for e in list {
@@ -336,5 +337,25 @@ impl Builder<'_> {
             out
         };
         (merge_all(left, new_left), merge_all(right, new_right), nl, nr)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn in_place_merge_equals_sorting_the_concatenation() {
+        let ev = |pos: f32, kind: u8, tri: u32| Event { pos, tri, kind };
+        let mut a = vec![ev(0.0, START, 3), ev(1.0, END, 1), ev(1.0, START, 0), ev(5.0, END, 2)];
+        let mut b = vec![ev(-1.0, PLANAR, 9), ev(1.0, PLANAR, 4), ev(1.0, START, 7), ev(9.0, END, 8)];
+        a.sort_unstable_by(event_order);
+        b.sort_unstable_by(event_order);
+        let mut want = [a.clone(), b.clone()].concat();
+        want.sort_unstable_by(event_order);
+        let got = merge(a, b);
+        let key = |v: &[Event]| v.iter().map(|e| (e.pos.to_bits(), e.kind, e.tri)).collect::<Vec<_>>();
+        assert_eq!(key(&got), key(&want));
+        assert_eq!(key(&merge(Vec::new(), want.clone())), key(&want));
     }
 }
