@@ -12,6 +12,7 @@ pub mod brute;
 mod counters;
 mod error;
 pub mod grid;
+pub mod kdtree;
 mod registry;
 
 pub use accel::{intersect_batch, occluded_batch, Accel, AccelStats};
@@ -20,4 +21,5 @@ pub use brute::Brute;
 pub use counters::{Counter, NoCount, TraversalCounts};
 pub use error::BuildError;
 pub use grid::{Grid, GridParams};
+pub use kdtree::{KdTree, KdTreeParams, KdTreeRopes};
 pub use registry::AccelKind;

@@ -1,6 +1,6 @@
 //! Choosing a structure by name (`--accel NAME`) and building it with default parameters.
 
-use crate::{Accel, Bih, BihParams, Brute, BuildError, Grid, GridParams};
+use crate::{Accel, Bih, BihParams, Brute, BuildError, Grid, GridParams, KdTree, KdTreeRopes};
 use dynray_geom::TriangleMesh;
 
 /// Every structure the engine offers, by the name `--accel` accepts.
@@ -12,11 +12,16 @@ pub enum AccelKind {
     Bih,
     /// [`Grid`]: uniform grid (seed 002's baseline), default [`GridParams`].
     Grid,
+    /// [`KdTree`]: SAH kd-tree, stack traversal.
+    KdTree,
+    /// [`KdTreeRopes`]: SAH kd-tree, stackless Ropes++ traversal.
+    KdTreeRopes,
 }
 
 impl AccelKind {
     /// All kinds, in the order listings show them.
-    pub const ALL: &'static [AccelKind] = &[AccelKind::Brute, AccelKind::Bih, AccelKind::Grid];
+    pub const ALL: &'static [AccelKind] =
+        &[AccelKind::Brute, AccelKind::Bih, AccelKind::KdTree, AccelKind::KdTreeRopes, AccelKind::Grid];
 
     /// The `--accel` spelling.
     pub fn name(self) -> &'static str {
@@ -24,6 +29,8 @@ impl AccelKind {
             AccelKind::Brute => "brute",
             AccelKind::Bih => "bih",
             AccelKind::Grid => "grid",
+            AccelKind::KdTree => "kdtree",
+            AccelKind::KdTreeRopes => "kdtree-ropes",
         }
     }
 
@@ -33,6 +40,8 @@ impl AccelKind {
             AccelKind::Brute => Box::new(Brute::build(mesh)?),
             AccelKind::Bih => Box::new(Bih::build(mesh, &BihParams::default())?),
             AccelKind::Grid => Box::new(Grid::build(mesh, &GridParams::default())?),
+            AccelKind::KdTree => Box::new(KdTree::build(mesh)?),
+            AccelKind::KdTreeRopes => Box::new(KdTreeRopes::build(mesh)?),
         })
     }
 }

@@ -139,7 +139,9 @@ fn key(mesh: &TriangleMesh, rays: &[Ray], probe: &[Hit]) -> u64 {
             fnv(&mut h, &f.to_bits().to_le_bytes());
         }
     }
-    // A live probe of the current triangle test: a changed test changes the key.
+    // The triangle test's source and a live probe of it: a changed test changes the key.
+    fnv(&mut h, include_str!("../../../geom/src/triangle.rs").as_bytes());
+    fnv(&mut h, include_str!("../../../geom/src/ray.rs").as_bytes());
     for p in probe {
         fnv(&mut h, &p.t.to_bits().to_le_bytes());
         fnv(&mut h, &p.prim.to_le_bytes());
@@ -156,7 +158,7 @@ pub fn brute_hits(mesh: &TriangleMesh, rays: &[Ray]) -> Vec<Hit> {
     let _guard = COMPUTING.lock().unwrap_or_else(|e| e.into_inner());
     let brute = Brute::build(mesh).expect("oracle mesh");
     let probe: Vec<Hit> = rays.iter().take(32).map(|r| brute.intersect(r)).collect();
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("oracle-cache-v2");
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("oracle-cache");
     let file = dir.join(format!("{:016x}.bin", key(mesh, rays, &probe)));
     if let Ok(bytes) = std::fs::read(&file) {
         if bytes.len() == rays.len() * 16 {
