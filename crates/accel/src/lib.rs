@@ -8,12 +8,14 @@
 
 mod accel;
 pub mod brute;
+pub mod bvh;
 mod counters;
 mod error;
 mod registry;
 
 pub use accel::{intersect_batch, occluded_batch, Accel, AccelStats};
 pub use brute::Brute;
+pub use bvh::{Bvh, BvhParams};
 pub use counters::{Counter, NoCount, TraversalCounts};
 pub use error::BuildError;
 pub use registry::AccelKind;

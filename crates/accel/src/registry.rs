@@ -1,6 +1,6 @@
 //! Choosing a structure by name (`--accel NAME`) and building it with default parameters.
 
-use crate::{Accel, Brute, BuildError};
+use crate::{Accel, Brute, BuildError, Bvh, BvhParams};
 use dynray_geom::TriangleMesh;
 
 /// Every structure the engine offers, by the name `--accel` accepts.
@@ -8,16 +8,19 @@ use dynray_geom::TriangleMesh;
 pub enum AccelKind {
     /// [`Brute`]: every triangle for every ray (the oracle).
     Brute,
+    /// [`Bvh`]: binned-SAH bounding volume hierarchy (seed 003).
+    Bvh,
 }
 
 impl AccelKind {
     /// All kinds, in the order listings show them.
-    pub const ALL: &'static [AccelKind] = &[AccelKind::Brute];
+    pub const ALL: &'static [AccelKind] = &[AccelKind::Brute, AccelKind::Bvh];
 
     /// The `--accel` spelling.
     pub fn name(self) -> &'static str {
         match self {
             AccelKind::Brute => "brute",
+            AccelKind::Bvh => "bvh",
         }
     }
 
@@ -25,6 +28,7 @@ impl AccelKind {
     pub fn build(self, mesh: &TriangleMesh) -> Result<Box<dyn Accel>, BuildError> {
         Ok(match self {
             AccelKind::Brute => Box::new(Brute::build(mesh)?),
+            AccelKind::Bvh => Box::new(Bvh::build(mesh, &BvhParams::default())?),
         })
     }
 }
