@@ -49,6 +49,7 @@ pub(super) struct Built {
     pub nodes: Vec<BvhNode>,
     pub tris: Vec<Triangle>,
     pub ids: Vec<u32>,
+    pub depth: u32,
 }
 
 /// Builds the BVH of `mesh`.
@@ -81,20 +82,22 @@ pub(super) fn build(mesh: &TriangleMesh, params: &BvhParams) -> Result<Built, Bu
     let builder = Builder { params, bins: params.bins as usize };
     let (root_node, count) = builder.subtree(&mut refs, 0, bounds, 0, rest, 1);
     root[0] = root_node;
-    let nodes = compact(slots, count as usize);
+    let (nodes, depth) = compact(slots, count as usize);
 
     let tris = refs.par_iter().with_min_len(4096).map(|r| mesh.triangle(r.id as usize)).collect();
     let ids = refs.iter().map(|r| r.id).collect();
-    Ok(Built { nodes, tris, ids })
+    Ok(Built { nodes, tris, ids, depth })
 }
 
 /// Copies the used scratch slots into a dense array in depth-first order, keeping every
-/// children pair adjacent.
-fn compact(slots: &[BvhNode], count: usize) -> Vec<BvhNode> {
+/// children pair adjacent. Returns them and the depth of the deepest leaf.
+fn compact(slots: &[BvhNode], count: usize) -> (Vec<BvhNode>, u32) {
     let mut out = Vec::with_capacity(count);
     out.push(slots[0]);
-    let mut stack = vec![0usize];
-    while let Some(i) = stack.pop() {
+    let mut depth = 0;
+    let mut stack = vec![(0usize, 0u32)];
+    while let Some((i, d)) = stack.pop() {
+        depth = depth.max(d);
         if out[i].is_leaf() {
             continue;
         }
@@ -103,11 +106,11 @@ fn compact(slots: &[BvhNode], count: usize) -> Vec<BvhNode> {
         out.push(slots[old]);
         out.push(slots[old + 1]);
         out[i].index = l as u32;
-        stack.push(l + 1);
-        stack.push(l);
+        stack.push((l + 1, d + 1));
+        stack.push((l, d + 1));
     }
     debug_assert_eq!(out.len(), count);
-    out
+    (out, depth)
 }
 
 /// How a node is divided.

@@ -33,6 +33,8 @@ pub struct Bvh {
     ids: Vec<u32>,
     /// The parameters it was built with (SAH constants feed `stats`).
     params: BvhParams,
+    /// Depth of the deepest leaf (root = 0): picks the traversal stack size.
+    depth: u32,
 }
 
 impl Bvh {
@@ -40,7 +42,7 @@ impl Bvh {
     /// (empty, non-finite, bad index) or more than 2^31 - 1 triangles.
     pub fn build(mesh: &TriangleMesh, params: &BvhParams) -> Result<Self, BuildError> {
         let built = build::build(mesh, params)?;
-        let bvh = Self { nodes: built.nodes, tris: built.tris, ids: built.ids, params: *params };
+        let bvh = Self { nodes: built.nodes, tris: built.tris, ids: built.ids, params: *params, depth: built.depth };
         #[cfg(debug_assertions)]
         if let Err(e) = bvh.validate(mesh) {
             panic!("the builder produced an invalid BVH: {e}");

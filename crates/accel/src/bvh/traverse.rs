@@ -3,6 +3,7 @@
 use super::{Bvh, BvhNode};
 use crate::Counter;
 use dynray_geom::{Hit, PreparedRay, Ray};
+use glam::{Vec3A, Vec4};
 
 /// `dynray_geom`'s slab widening (its `SLAB_MARGIN`, private there). The test
 /// `box_test_matches_aabb_clip` fails if the two ever drift apart.
@@ -13,48 +14,47 @@ const SLAB_MARGIN: f32 = 1.0e-6;
 /// [`super::build::MAX_DEPTH`] and `validate` checks the measured depth against this.
 pub(super) const STACK_CAPACITY: usize = 128;
 const _: () = assert!((super::build::MAX_DEPTH as usize) < STACK_CAPACITY);
+/// Stack of trees shallower than 32 (the bunny: 18, the 871k-triangle dragon: 25).
+const SMALL_STACK: usize = 32;
 
-/// A ray with what the box test needs, computed once: the origin, `1/dir`, and per axis
-/// the offset (in a node seen as `[f32; 8]`) of the plane the ray meets first.
+/// A ray with what the box test needs, computed once: the origin and `1/dir` as SIMD
+/// vectors (`Vec3A` is one SSE register; the scalar build of glam behaves the same).
 struct BoxRay {
-    org: [f32; 3],
-    inv: [f32; 3],
-    near: [usize; 3],
-    far: [usize; 3],
+    org: Vec3A,
+    inv: Vec3A,
 }
 
 impl BoxRay {
     fn new(r: &PreparedRay) -> Self {
-        let inv = r.inv_dir.to_array();
-        // A negative direction (including -0, whose reciprocal is -∞) meets `max` first.
-        let near = [0, 1, 2].map(|a| if inv[a].is_sign_negative() { 4 + a } else { a });
-        Self { org: r.ray.origin.to_array(), inv, near, far: near.map(|o| o ^ 4) }
+        Self { org: r.ray.origin.into(), inv: r.inv_dir.into() }
     }
 
-    /// The box test of [`dynray_geom::Aabb::clip`], conservative in the same way, without
-    /// its per-axis sort: returns whether the ray's `[tmin, limit]` meets the node's box
-    /// and the (widened) entry distance.
+    /// The box test of [`dynray_geom::Aabb::clip`], with the same result (the test
+    /// `box_test_matches_aabb_clip`; -0 and +0 may differ): whether the ray's `[tmin, limit]` meets the node's
+    /// box, and the widened entry distance.
     ///
-    /// A slab whose distance is NaN (origin on its plane, ray parallel to it) leaves the
-    /// ray unconstrained, as in `clip`: `x > acc` is false for NaN, so NaN never enters the
-    /// running max/min.
+    /// Each half of the node (`min, index` and `max, count`) is one 16-byte load; the
+    /// fourth lane is ignored by `max_element`/`min_element`. A slab distance that is NaN
+    /// (origin on the slab's plane, ray parallel to it) must leave the ray unconstrained:
+    /// `x.max(-∞)` turns NaN into -∞ (SSE `maxps` returns its second operand on NaN,
+    /// `f32::max` the non-NaN one) and `x.min(∞)` into +∞, which the min/max then ignore.
     #[inline(always)]
     fn clip(&self, node: &BvhNode, tmin: f32, limit: f32) -> (bool, f32) {
         let f: &[f32; 8] = bytemuck::cast_ref(node);
-        let mut near = f32::NEG_INFINITY;
-        let mut far = f32::INFINITY;
-        for a in 0..3 {
-            // `& 7` lets the compiler drop the bounds check; offsets are always < 8.
-            let n = (f[self.near[a] & 7] - self.org[a]) * self.inv[a];
-            let x = (f[self.far[a] & 7] - self.org[a]) * self.inv[a];
-            near = if n > near { n } else { near };
-            far = if x < far { x } else { far };
-        }
+        let lo = Vec3A::from_vec4(Vec4::from_slice(&f[0..4]));
+        let hi = Vec3A::from_vec4(Vec4::from_slice(&f[4..8]));
+        let t0 = (lo - self.org) * self.inv;
+        let t1 = (hi - self.org) * self.inv;
+        let (ninf, pinf) = (Vec3A::NEG_INFINITY, Vec3A::INFINITY);
+        let near = t0.max(ninf).min(t1.max(ninf)).max_element();
+        let far = t0.min(pinf).max(t1.min(pinf)).min_element();
         // Widen outwards exactly as `Aabb::clip` does, then clamp to the interval.
         let near = near * if near > 0.0 { 1.0 - SLAB_MARGIN } else { 1.0 + SLAB_MARGIN };
         let far = far * if far > 0.0 { 1.0 + SLAB_MARGIN } else { 1.0 - SLAB_MARGIN };
-        let near = near.max(tmin);
-        let far = far.min(limit);
+        // Written as selects (one maxss/minss each); a NaN `tmin`/`limit` is ignored, as
+        // `f32::max`/`min` in `clip` ignore it.
+        let near = if tmin > near { tmin } else { near };
+        let far = if limit < far { limit } else { far };
         (near <= far, near)
     }
 }
@@ -67,9 +67,30 @@ struct Entry {
 }
 
 impl Bvh {
-    /// Closest hit, counting work into `c`.
+    /// Closest hit, counting work into `c`, with a stack sized for the tree's depth.
     #[inline]
     pub(super) fn traverse<C: Counter>(&self, ray: &Ray, c: &mut C) -> Hit {
+        // A 32-entry stack is 256 bytes to clear per ray instead of 1 KiB.
+        if (self.depth as usize) < SMALL_STACK {
+            self.traverse_with::<C, SMALL_STACK>(ray, c)
+        } else {
+            self.traverse_with::<C, STACK_CAPACITY>(ray, c)
+        }
+    }
+
+    /// Any hit in `[tmin, tmax]`, with a stack sized for the tree's depth.
+    #[inline]
+    pub(super) fn any_hit<C: Counter>(&self, ray: &Ray, c: &mut C) -> bool {
+        if (self.depth as usize) < SMALL_STACK {
+            self.any_hit_with::<C, SMALL_STACK>(ray, c)
+        } else {
+            self.any_hit_with::<C, STACK_CAPACITY>(ray, c)
+        }
+    }
+
+    /// Closest hit with an `N`-entry stack (`N` > the tree's depth).
+    #[inline(always)]
+    fn traverse_with<C: Counter, const N: usize>(&self, ray: &Ray, c: &mut C) -> Hit {
         let pr = PreparedRay::new(ray);
         let br = BoxRay::new(&pr);
         let (tmin, tmax) = (ray.tmin, ray.tmax);
@@ -78,7 +99,7 @@ impl Bvh {
         if !br.clip(&nodes[0], tmin, tmax).0 {
             return best;
         }
-        let mut stack = [Entry::default(); STACK_CAPACITY];
+        let mut stack = [Entry::default(); N];
         let mut sp = 0usize;
         let mut node = &nodes[0];
         loop {
@@ -135,9 +156,9 @@ impl Bvh {
         }
     }
 
-    /// Any hit in `[tmin, tmax]`: returns at the first triangle accepted.
-    #[inline]
-    pub(super) fn any_hit<C: Counter>(&self, ray: &Ray, c: &mut C) -> bool {
+    /// Any hit with an `N`-entry stack: returns at the first triangle accepted.
+    #[inline(always)]
+    fn any_hit_with<C: Counter, const N: usize>(&self, ray: &Ray, c: &mut C) -> bool {
         let pr = PreparedRay::new(ray);
         let br = BoxRay::new(&pr);
         let (tmin, tmax) = (ray.tmin, ray.tmax);
@@ -145,7 +166,7 @@ impl Bvh {
         if !br.clip(&nodes[0], tmin, tmax).0 {
             return false;
         }
-        let mut stack = [0u32; STACK_CAPACITY];
+        let mut stack = [0u32; N];
         let mut sp = 0usize;
         let mut node = &nodes[0];
         loop {
@@ -195,7 +216,7 @@ mod tests {
     use rand::{rngs::SmallRng, Rng, SeedableRng};
 
     /// The fast box test is a re-statement of `Aabb::clip` (the specification): both must
-    /// accept the same rays and give the same entry distance bits, including rays with zero
+    /// accept the same rays and give the same entry distance, including rays with zero
     /// direction components starting on a box plane.
     #[test]
     fn box_test_matches_aabb_clip() {
@@ -227,7 +248,9 @@ mod tests {
             let (hit, near) = BoxRay::new(&pr).clip(&node, tmin, tmax);
             assert_eq!(hit, want.is_some(), "box {bx:?} ray {o} {d} [{tmin}, {tmax}]");
             if let Some((n, _)) = want {
-                assert_eq!(near.to_bits(), n.to_bits(), "box {bx:?} ray {o} {d}");
+                // Equal as numbers: the SSE max may return -0 where `f32::max` returns +0;
+                // the entry distance is only ever compared, never reported.
+                assert_eq!(near, n, "box {bx:?} ray {o} {d}");
             }
         }
     }

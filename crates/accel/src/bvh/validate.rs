@@ -124,6 +124,12 @@ impl Bvh {
         if let Some(slot) = covered.iter().position(|c| !c) {
             return Err(bad(0, format!("triangle slot {slot} in no leaf")));
         }
+        if stats.max_depth != self.depth {
+            return Err(bad(
+                0,
+                format!("recorded depth {} but the deepest leaf is at {}", self.depth, stats.max_depth),
+            ));
+        }
         let last = stats.leaf_sizes.iter().rposition(|&c| c > 0).unwrap_or(0);
         stats.leaf_sizes.truncate(last + 1);
         stats.sah_cost = (root_area > 0.0).then(|| sah / root_area);
