@@ -124,6 +124,12 @@ pub(super) struct Built {
 
 /// Builds the BVH of `mesh`.
 pub(super) fn build(mesh: &TriangleMesh, params: &BvhParams) -> Result<Built, BuildError> {
+    build_limited(mesh, params, SAH_DEPTH_LIMIT)
+}
+
+/// [`build`] with median splits from depth `sah_depth_limit` on (tests use small limits:
+/// real meshes whose SAH splits go 64 deep are hard to make in f32).
+fn build_limited(mesh: &TriangleMesh, params: &BvhParams, sah_depth_limit: u32) -> Result<Built, BuildError> {
     params.validate()?;
     mesh.validate()?;
     let n = mesh.triangle_count();
@@ -150,7 +156,7 @@ pub(super) fn build(mesh: &TriangleMesh, params: &BvhParams) -> Result<Built, Bu
     let mut scratch = vec![0u32; (2 * n - 1) * 8];
     let slots: &mut [BvhNode] = bytemuck::cast_slice_mut(&mut scratch);
     let (root, rest) = slots.split_at_mut(1);
-    let builder = Builder { params, bins: params.bins as usize };
+    let builder = Builder { params, bins: params.bins as usize, sah_depth_limit };
     let (root_node, count) = builder.subtree(&mut refs, 0, bounds, 0, rest, 1);
     root[0] = root_node;
     let (nodes, depth) = compact(slots, count as usize);
@@ -206,6 +212,7 @@ fn bin_of(c: f32, cmin: f32, scale: f32, k: usize) -> usize {
 struct Builder<'a> {
     params: &'a BvhParams,
     bins: usize,
+    sah_depth_limit: u32,
 }
 
 impl Builder<'_> {
@@ -284,7 +291,7 @@ impl Builder<'_> {
             // depth) unless the leaf is small enough.
             return if n <= self.params.max_leaf_size as usize { Split::Leaf } else { Split::Median { axis: None } };
         }
-        if depth >= SAH_DEPTH_LIMIT {
+        if depth >= self.sah_depth_limit {
             return Split::Median { axis: Some(cb.aabb().largest_axis()) };
         }
 
@@ -441,6 +448,28 @@ mod tests {
         assert_eq!(partition(&mut v, |_| true), 5);
         assert_eq!(partition(&mut v, |_| false), 0);
         assert_eq!(partition(&mut [], |_| true), 0);
+    }
+
+    #[test]
+    fn depth_limit_switches_to_median_splits() {
+        // 2000 triangles on a 2-D grid of jittered positions.
+        let mut pos = Vec::new();
+        for i in 0..2000u32 {
+            let (x, y) = ((i % 50) as f32 + (i % 7) as f32 * 0.1, (i / 50) as f32 + (i % 5) as f32 * 0.1);
+            pos.extend([[x, y, 0.0], [x + 0.5, y, 0.1], [x, y + 0.5, 0.2]]);
+        }
+        let mesh = TriangleMesh::new(pos, (0..2000u32).map(|i| [3 * i, 3 * i + 1, 3 * i + 2]).collect());
+        let p = BvhParams::default();
+        let sah = build(&mesh, &p).unwrap();
+        for limit in [0, 1, 3] {
+            let b = build_limited(&mesh, &p, limit).unwrap();
+            // Median splits halve every node: at most ceil(log2(2000)) = 11 more levels.
+            assert!(b.depth <= limit + 11, "limit {limit}: depth {}", b.depth);
+            assert_ne!(b.nodes, sah.nodes, "limit {limit} changed nothing");
+            let mut ids = b.ids.clone();
+            ids.sort_unstable();
+            assert!(ids.iter().enumerate().all(|(i, &id)| id == i as u32));
+        }
     }
 
     #[test]
