@@ -9,6 +9,7 @@
 mod accel;
 pub mod bih;
 pub mod brute;
+pub mod bvh;
 mod counters;
 mod error;
 pub mod grid;
@@ -18,6 +19,7 @@ mod registry;
 pub use accel::{intersect_batch, occluded_batch, Accel, AccelStats};
 pub use bih::{Bih, BihParams};
 pub use brute::Brute;
+pub use bvh::{Bvh, BvhParams};
 pub use counters::{Counter, NoCount, TraversalCounts};
 pub use error::BuildError;
 pub use grid::{Grid, GridParams};

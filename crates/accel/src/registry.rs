@@ -1,6 +1,6 @@
 //! Choosing a structure by name (`--accel NAME`) and building it with default parameters.
 
-use crate::{Accel, Bih, BihParams, Brute, BuildError, Grid, GridParams, KdTree, KdTreeRopes};
+use crate::{Accel, Bih, BihParams, Brute, BuildError, Bvh, BvhParams, Grid, GridParams, KdTree, KdTreeRopes};
 use dynray_geom::TriangleMesh;
 
 /// Every structure the engine offers, by the name `--accel` accepts.
@@ -8,6 +8,8 @@ use dynray_geom::TriangleMesh;
 pub enum AccelKind {
     /// [`Brute`]: every triangle for every ray (the oracle).
     Brute,
+    /// [`Bvh`]: binned-SAH bounding volume hierarchy (seed 003).
+    Bvh,
     /// [`Bih`]: Bounding Interval Hierarchy (seed 000), default [`BihParams`].
     Bih,
     /// [`Grid`]: uniform grid (seed 002's baseline), default [`GridParams`].
@@ -21,7 +23,7 @@ pub enum AccelKind {
 impl AccelKind {
     /// All kinds, in the order listings show them.
     pub const ALL: &'static [AccelKind] =
-        &[AccelKind::Brute, AccelKind::Bih, AccelKind::KdTree, AccelKind::KdTreeRopes, AccelKind::Grid];
+        &[AccelKind::Brute, AccelKind::Bvh, AccelKind::Bih, AccelKind::KdTree, AccelKind::KdTreeRopes, AccelKind::Grid];
 
     /// The `--accel` spelling.
     pub fn name(self) -> &'static str {
@@ -31,6 +33,7 @@ impl AccelKind {
             AccelKind::Grid => "grid",
             AccelKind::KdTree => "kdtree",
             AccelKind::KdTreeRopes => "kdtree-ropes",
+            AccelKind::Bvh => "bvh",
         }
     }
 
@@ -42,6 +45,7 @@ impl AccelKind {
             AccelKind::Grid => Box::new(Grid::build(mesh, &GridParams::default())?),
             AccelKind::KdTree => Box::new(KdTree::build(mesh)?),
             AccelKind::KdTreeRopes => Box::new(KdTreeRopes::build(mesh)?),
+            AccelKind::Bvh => Box::new(Bvh::build(mesh, &BvhParams::default())?),
         })
     }
 }

@@ -1,0 +1,482 @@
+//! Binned-SAH builder (seed 003 Algorithms 2.1 and 2.2), parallel over subtrees and
+//! deterministic: the node array does not depend on the number of threads.
+//!
+//! Determinism: a subtree over `n` triangles has at most `2n - 1` nodes, so every subtree
+//! is given a fixed slot range of that size in a scratch array before it is built (its
+//! children pair first, then the left subtree's range, then the right one's). Threads
+//! write disjoint ranges; one sequential depth-first pass then copies the used slots into
+//! the final array. Binning reduces with exact min/max/sum, so parallel binning is exact.
+
+use super::{BvhNode, BvhParams};
+use crate::BuildError;
+use dynray_geom::{Aabb, Triangle, TriangleMesh, Vec3};
+use glam::Vec3A;
+use rayon::prelude::*;
+
+/// Nodes with at least this many triangles build their two subtrees with `rayon::join`.
+/// Below it the task overhead outweighs the work.
+const PARALLEL_THRESHOLD: usize = 4096;
+/// Nodes with at least this many triangles bin their triangles in parallel chunks.
+const PARALLEL_BIN_THRESHOLD: usize = 1 << 16;
+/// Chunk size of parallel binning.
+const BIN_CHUNK: usize = 1 << 14;
+/// Depth from which nodes are split at the object median instead of by the SAH. SAH
+/// splits may peel one triangle off at a time (exponentially spaced centroids); median
+/// splits halve the node, so no leaf is deeper than `SAH_DEPTH_LIMIT + 31`.
+pub(super) const SAH_DEPTH_LIMIT: u32 = 64;
+/// Deepest possible leaf (root = 0): the SAH limit plus log2 of the largest triangle count
+/// the node encoding allows (2^31).
+pub(super) const MAX_DEPTH: u32 = SAH_DEPTH_LIMIT + 32;
+
+/// A box in SIMD registers (`Vec3A` = one SSE register per corner): the builder's
+/// unions run once per triangle per axis, so they are worth a vector instruction each.
+#[derive(Clone, Copy, Debug)]
+struct Box3 {
+    lo: Vec3A,
+    hi: Vec3A,
+}
+
+impl Box3 {
+    const EMPTY: Box3 = Box3 { lo: Vec3A::INFINITY, hi: Vec3A::NEG_INFINITY };
+
+    #[inline(always)]
+    fn union(&self, o: &Box3) -> Box3 {
+        Box3 { lo: self.lo.min(o.lo), hi: self.hi.max(o.hi) }
+    }
+
+    #[inline(always)]
+    fn grow(&mut self, p: Vec3A) {
+        self.lo = self.lo.min(p);
+        self.hi = self.hi.max(p);
+    }
+
+    /// Surface area of a non-empty box (callers skip empty ones).
+    #[inline(always)]
+    fn area(&self) -> f32 {
+        let e = self.hi - self.lo;
+        2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
+    }
+
+    fn aabb(&self) -> Aabb {
+        Aabb::new(self.lo.into(), self.hi.into())
+    }
+}
+
+/// One triangle as the builder sees it (48 bytes, 16-aligned).
+#[derive(Clone, Copy, Debug)]
+struct PrimRef {
+    bounds: Box3,
+    centroid: Vec3,
+    id: u32,
+}
+
+/// SAH bins of all three axes, axis-major: `3 * k` boxes and counts (a bin holds the
+/// triangles whose centroid falls into one slice of the centroid box), plus the sweep's
+/// per-plane scratch.
+struct Bins {
+    boxes: Vec<Box3>,
+    counts: Vec<u32>,
+    right_area: Vec<f32>,
+    right_count: Vec<u32>,
+}
+
+impl Bins {
+    fn new(k: usize) -> Self {
+        let mut b = Bins { boxes: Vec::new(), counts: Vec::new(), right_area: Vec::new(), right_count: Vec::new() };
+        b.reset(k);
+        b
+    }
+
+    /// Empties the bins for a node with `k` bins per axis, keeping the allocations.
+    fn reset(&mut self, k: usize) {
+        self.boxes.clear();
+        self.boxes.resize(3 * k, Box3::EMPTY);
+        self.counts.clear();
+        self.counts.resize(3 * k, 0);
+        self.right_area.resize(k, 0.0);
+        self.right_count.resize(k, 0);
+    }
+
+    fn merge(mut self, o: Bins) -> Bins {
+        for (a, b) in self.boxes.iter_mut().zip(&o.boxes) {
+            *a = a.union(b);
+        }
+        for (a, b) in self.counts.iter_mut().zip(&o.counts) {
+            *a += b;
+        }
+        self
+    }
+}
+
+thread_local! {
+    /// Per-thread bins, reused by every node below the parallel-binning size: most nodes
+    /// hold a handful of triangles, where allocating bins cost more than filling them.
+    static SCRATCH: std::cell::RefCell<Bins> = std::cell::RefCell::new(Bins::new(0));
+}
+
+/// The result of a build: nodes, triangles in leaf order, and their mesh indices.
+pub(super) struct Built {
+    pub nodes: Vec<BvhNode>,
+    pub tris: Vec<Triangle>,
+    pub ids: Vec<u32>,
+    pub depth: u32,
+}
+
+/// Builds the BVH of `mesh`.
+pub(super) fn build(mesh: &TriangleMesh, params: &BvhParams) -> Result<Built, BuildError> {
+    build_limited(mesh, params, SAH_DEPTH_LIMIT)
+}
+
+/// [`build`] with median splits from depth `sah_depth_limit` on (tests use small limits:
+/// real meshes whose SAH splits go 64 deep are hard to make in f32).
+fn build_limited(mesh: &TriangleMesh, params: &BvhParams, sah_depth_limit: u32) -> Result<Built, BuildError> {
+    params.validate()?;
+    mesh.validate()?;
+    let n = mesh.triangle_count();
+    // Node indices up to 2n - 1 must fit in a u32, and depth bounds assume n <= 2^31.
+    if n > (u32::MAX / 2) as usize {
+        return Err(BuildError::Limit(format!("{n} triangles: the BVH node encoding holds at most 2^31 - 1")));
+    }
+    let mut refs: Vec<PrimRef> = (0..n)
+        .into_par_iter()
+        .with_min_len(4096)
+        .map(|i| {
+            let t = mesh.triangle(i);
+            let b = t.bounds();
+            PrimRef { bounds: Box3 { lo: b.min.into(), hi: b.max.into() }, centroid: t.centroid(), id: i as u32 }
+        })
+        .collect();
+    let bounds = refs
+        .par_iter()
+        .with_min_len(4096)
+        .fold(|| Box3::EMPTY, |b, r| b.union(&r.bounds))
+        .reduce(|| Box3::EMPTY, |a, b| a.union(&b));
+
+    // Scratch slots: zeroed u32s come from calloc, cheaper than writing 2n nodes.
+    let mut scratch = vec![0u32; (2 * n - 1) * 8];
+    let slots: &mut [BvhNode] = bytemuck::cast_slice_mut(&mut scratch);
+    let (root, rest) = slots.split_at_mut(1);
+    let builder = Builder { params, bins: params.bins as usize, sah_depth_limit };
+    let (root_node, count) = builder.subtree(&mut refs, 0, bounds, 0, rest, 1);
+    root[0] = root_node;
+    let (nodes, depth) = compact(slots, count as usize);
+
+    let tris = refs.par_iter().with_min_len(4096).map(|r| mesh.triangle(r.id as usize)).collect();
+    let ids = refs.iter().map(|r| r.id).collect();
+    Ok(Built { nodes, tris, ids, depth })
+}
+
+/// Copies the used scratch slots into a dense array in depth-first order, keeping every
+/// children pair adjacent. Returns them and the depth of the deepest leaf.
+fn compact(slots: &[BvhNode], count: usize) -> (Vec<BvhNode>, u32) {
+    let mut out = Vec::with_capacity(count);
+    out.push(slots[0]);
+    let mut depth = 0;
+    let mut stack = vec![(0usize, 0u32)];
+    while let Some((i, d)) = stack.pop() {
+        depth = depth.max(d);
+        if out[i].is_leaf() {
+            continue;
+        }
+        let old = out[i].index as usize;
+        let l = out.len();
+        out.push(slots[old]);
+        out.push(slots[old + 1]);
+        out[i].index = l as u32;
+        stack.push((l + 1, d + 1));
+        stack.push((l, d + 1));
+    }
+    debug_assert_eq!(out.len(), count);
+    (out, depth)
+}
+
+/// How a node is divided.
+enum Split {
+    /// Make it a leaf.
+    Leaf,
+    /// Left = centroids in bins `< bin` along `axis` (see [`bin_of`]).
+    Plane { axis: usize, bin: usize, k: usize, cmin: f32, scale: f32, left: Box3, right: Box3, left_count: usize },
+    /// Halve by object median along `axis`, or by index when `axis` is `None` (all
+    /// centroids coincide).
+    Median { axis: Option<usize> },
+}
+
+/// The bin of centroid coordinate `c`. Partition uses this same function, so it puts
+/// exactly the binned counts on each side (a float plane compare could disagree by
+/// rounding and leave one side empty). `as usize` saturates and maps NaN to 0.
+#[inline(always)]
+fn bin_of(c: f32, cmin: f32, scale: f32, k: usize) -> usize {
+    (((c - cmin) * scale) as usize).min(k - 1)
+}
+
+struct Builder<'a> {
+    params: &'a BvhParams,
+    bins: usize,
+    sah_depth_limit: u32,
+}
+
+impl Builder<'_> {
+    /// Builds the subtree over `refs` (triangles `first ..` of the leaf order) and returns
+    /// its root node and node count. Its descendants go into `slots`, which has exactly
+    /// `2n - 2` entries and starts at global index `base`.
+    fn subtree(
+        &self,
+        refs: &mut [PrimRef],
+        first: u32,
+        bounds: Box3,
+        depth: u32,
+        slots: &mut [BvhNode],
+        base: u32,
+    ) -> (BvhNode, u32) {
+        let n = refs.len();
+        debug_assert_eq!(slots.len(), 2 * n - 2);
+        let leaf = (BvhNode::leaf(&bounds.aabb(), first, n as u32), 1);
+        if n == 1 || n < self.params.leaf_size as usize {
+            return leaf;
+        }
+        let (nl, lb, rb) = match self.choose_split(refs, &bounds, depth) {
+            Split::Leaf => return leaf,
+            Split::Plane { axis, bin, k, cmin, scale, left, right, left_count } => {
+                let nl = partition(refs, |r| bin_of(r.centroid[axis], cmin, scale, k) < bin);
+                assert_eq!(nl, left_count, "partition disagrees with binning (axis {axis}, bin {bin})");
+                (nl, left, right)
+            }
+            Split::Median { axis } => median_split(refs, axis),
+        };
+        debug_assert!(nl > 0 && nl < n, "split of {n} left {nl}");
+        let (lrefs, rrefs) = refs.split_at_mut(nl);
+        let (pair, desc) = slots.split_at_mut(2);
+        let (ldesc, rdesc) = desc.split_at_mut(2 * nl - 2);
+        let (lbase, rbase) = (base + 2, base + 2 * nl as u32);
+        let rfirst = first + nl as u32;
+        let ((l, lc), (r, rc)) = if n >= PARALLEL_THRESHOLD {
+            rayon::join(
+                || self.subtree(lrefs, first, lb, depth + 1, ldesc, lbase),
+                || self.subtree(rrefs, rfirst, rb, depth + 1, rdesc, rbase),
+            )
+        } else {
+            (
+                self.subtree(lrefs, first, lb, depth + 1, ldesc, lbase),
+                self.subtree(rrefs, rfirst, rb, depth + 1, rdesc, rbase),
+            )
+        };
+        pair[0] = l;
+        pair[1] = r;
+        (BvhNode::interior(&bounds.aabb(), base), 1 + lc + rc)
+    }
+
+    /// Seed 003 steps 3–6: bins on all three axes over the centroid box, the cheapest of
+    /// the `k - 1` planes per axis, and a leaf when that plane costs more than a leaf.
+    fn choose_split(&self, refs: &[PrimRef], bounds: &Box3, depth: u32) -> Split {
+        let n = refs.len();
+        let cb = if n >= PARALLEL_BIN_THRESHOLD {
+            refs.par_chunks(BIN_CHUNK).map(centroid_bounds).reduce(|| Box3::EMPTY, |a, b| a.union(&b))
+        } else {
+            centroid_bounds(refs)
+        };
+        // A node of n triangles fills at most n bins per axis: small nodes use fewer
+        // (never below 8), which cut the dragon's build by 6 % at an unchanged SAH cost.
+        let k = self.bins.min(n.max(8));
+        let ext = cb.hi - cb.lo;
+        // An axis with zero (or denormal) extent cannot separate centroids.
+        let scale = Vec3A::from_array([0, 1, 2].map(|a| {
+            if ext[a] > 0.0 && (k as f32 / ext[a]).is_finite() {
+                k as f32 / ext[a]
+            } else {
+                0.0
+            }
+        }));
+        if scale == Vec3A::ZERO {
+            // All centroids coincide: nothing separates them, so split by index (bounded
+            // depth) unless the leaf is small enough.
+            return if n <= self.params.max_leaf_size as usize { Split::Leaf } else { Split::Median { axis: None } };
+        }
+        if depth >= self.sah_depth_limit {
+            return Split::Median { axis: Some(cb.aabb().largest_axis()) };
+        }
+
+        if n >= PARALLEL_BIN_THRESHOLD {
+            let mut bins = refs
+                .par_chunks(BIN_CHUNK)
+                .map(|c| {
+                    let mut b = Bins::new(k);
+                    bin_refs(c, &cb, scale, k, &mut b);
+                    b
+                })
+                .reduce(|| Bins::new(k), Bins::merge);
+            self.pick(&mut bins, &cb, scale, k, bounds, n)
+        } else {
+            SCRATCH.with_borrow_mut(|bins| {
+                bins.reset(k);
+                bin_refs(refs, &cb, scale, k, bins);
+                self.pick(bins, &cb, scale, k, bounds, n)
+            })
+        }
+    }
+
+    /// Steps 5–6 on filled bins: the cheapest plane, or a leaf.
+    fn pick(&self, bins: &mut Bins, cb: &Box3, scale: Vec3A, k: usize, bounds: &Box3, n: usize) -> Split {
+        // Sweep: right-to-left suffix areas and counts, then left-to-right costs (Eq. 2.2).
+        let mut best: Option<(f32, usize, usize)> = None;
+        let Bins { boxes, counts, right_area, right_count } = bins;
+        for axis in 0..3 {
+            if scale[axis] == 0.0 {
+                continue;
+            }
+            let (b, c) = (&boxes[axis * k..(axis + 1) * k], &counts[axis * k..(axis + 1) * k]);
+            let (mut acc, mut cnt) = (Box3::EMPTY, 0);
+            for i in (1..k).rev() {
+                acc = acc.union(&b[i]);
+                cnt += c[i];
+                // An empty side is skipped below, so its (infinite) area is never used.
+                right_area[i] = acc.area();
+                right_count[i] = cnt;
+            }
+            let (mut acc, mut cnt) = (Box3::EMPTY, 0);
+            for i in 1..k {
+                acc = acc.union(&b[i - 1]);
+                cnt += c[i - 1];
+                if cnt == 0 || right_count[i] == 0 {
+                    continue;
+                }
+                let cost = acc.area() * cnt as f32 + right_area[i] * right_count[i] as f32;
+                // Strict `<`: the first axis and plane win ties, so builds are reproducible.
+                if best.is_none_or(|(c, _, _)| cost < c) {
+                    best = Some((cost, axis, i));
+                }
+            }
+        }
+        let Some((cost, axis, bin)) = best else {
+            // Unreachable while scale > 0 (bin 0 and bin k-1 are both occupied), but a
+            // median split is always a safe answer.
+            return Split::Median { axis: Some(cb.aabb().largest_axis()) };
+        };
+
+        // Eq. 2.1 against the leaf cost K_I·n; a flat or point-like node (area 0) gains
+        // nothing from a split.
+        let (kt, ki) = (self.params.traversal_cost, self.params.intersection_cost);
+        let area = bounds.aabb().surface_area();
+        let split_cost = if area > 0.0 { kt + ki * cost / area } else { kt + ki * n as f32 };
+        if split_cost > ki * n as f32 && n <= self.params.max_leaf_size as usize {
+            return Split::Leaf;
+        }
+        let (b, c) = (&boxes[axis * k..(axis + 1) * k], &counts[axis * k..(axis + 1) * k]);
+        let left = b[..bin].iter().fold(Box3::EMPTY, |a, x| a.union(x));
+        let right = b[bin..].iter().fold(Box3::EMPTY, |a, x| a.union(x));
+        let left_count = c[..bin].iter().sum::<u32>() as usize;
+        Split::Plane { axis, bin, k, cmin: cb.lo[axis], scale: scale[axis], left, right, left_count }
+    }
+}
+
+fn centroid_bounds(refs: &[PrimRef]) -> Box3 {
+    let mut b = Box3::EMPTY;
+    for r in refs {
+        b.grow(r.centroid.into());
+    }
+    b
+}
+
+/// Adds `refs` to the bins of all three axes.
+fn bin_refs(refs: &[PrimRef], cb: &Box3, scale: Vec3A, k: usize, bins: &mut Bins) {
+    for r in refs {
+        // Lane by lane the same IEEE operations as `bin_of`, so partition agrees exactly.
+        let t = ((Vec3A::from(r.centroid) - cb.lo) * scale).to_array();
+        for (axis, t) in t.into_iter().enumerate() {
+            let i = axis * k + (t as usize).min(k - 1);
+            bins.boxes[i] = bins.boxes[i].union(&r.bounds);
+            bins.counts[i] += 1;
+        }
+    }
+}
+
+/// Seed 003 Algorithm 2.2: Hoare-style in-place partition; returns the number of refs for
+/// which `is_left` holds, which end up first.
+fn partition(refs: &mut [PrimRef], is_left: impl Fn(&PrimRef) -> bool) -> usize {
+    let (mut l, mut r) = (0, refs.len());
+    loop {
+        while l < r && is_left(&refs[l]) {
+            l += 1;
+        }
+        while l < r && !is_left(&refs[r - 1]) {
+            r -= 1;
+        }
+        if l >= r {
+            return l;
+        }
+        refs.swap(l, r - 1);
+        l += 1;
+        r -= 1;
+    }
+}
+
+/// Halves `refs`: by centroid order along `axis` (object median), or by index. Returns the
+/// left count and both halves' boxes.
+fn median_split(refs: &mut [PrimRef], axis: Option<usize>) -> (usize, Box3, Box3) {
+    let mid = refs.len() / 2;
+    if let Some(a) = axis {
+        // `select_nth_unstable` is deterministic for a given input order.
+        refs.select_nth_unstable_by(mid, |x, y| x.centroid[a].total_cmp(&y.centroid[a]).then(x.id.cmp(&y.id)));
+    }
+    let bounds = |s: &[PrimRef]| s.iter().fold(Box3::EMPTY, |b, r| b.union(&r.bounds));
+    (mid, bounds(&refs[..mid]), bounds(&refs[mid..]))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn r(x: f32, id: u32) -> PrimRef {
+        let p = Vec3::new(x, 0.0, 0.0);
+        PrimRef { bounds: Box3 { lo: p.into(), hi: p.into() }, centroid: p, id }
+    }
+
+    #[test]
+    fn partition_keeps_every_ref_and_splits_at_the_predicate() {
+        let mut v: Vec<PrimRef> =
+            [5.0, 1.0, 7.0, 2.0, 9.0, 0.0, 3.0].iter().enumerate().map(|(i, &x)| r(x, i as u32)).collect();
+        let nl = partition(&mut v, |p| p.centroid.x < 4.0);
+        assert_eq!(nl, 4);
+        assert!(v[..nl].iter().all(|p| p.centroid.x < 4.0) && v[nl..].iter().all(|p| p.centroid.x >= 4.0));
+        let mut ids: Vec<u32> = v.iter().map(|p| p.id).collect();
+        ids.sort();
+        assert_eq!(ids, (0..7).collect::<Vec<_>>());
+    }
+
+    #[test]
+    fn partition_handles_all_left_and_all_right() {
+        let mut v: Vec<PrimRef> = (0..5).map(|i| r(i as f32, i)).collect();
+        assert_eq!(partition(&mut v, |_| true), 5);
+        assert_eq!(partition(&mut v, |_| false), 0);
+        assert_eq!(partition(&mut [], |_| true), 0);
+    }
+
+    #[test]
+    fn depth_limit_switches_to_median_splits() {
+        // 2000 triangles on a 2-D grid of jittered positions.
+        let mut pos = Vec::new();
+        for i in 0..2000u32 {
+            let (x, y) = ((i % 50) as f32 + (i % 7) as f32 * 0.1, (i / 50) as f32 + (i % 5) as f32 * 0.1);
+            pos.extend([[x, y, 0.0], [x + 0.5, y, 0.1], [x, y + 0.5, 0.2]]);
+        }
+        let mesh = TriangleMesh::new(pos, (0..2000u32).map(|i| [3 * i, 3 * i + 1, 3 * i + 2]).collect());
+        let p = BvhParams::default();
+        let sah = build(&mesh, &p).unwrap();
+        for limit in [0, 1, 3] {
+            let b = build_limited(&mesh, &p, limit).unwrap();
+            // Median splits halve every node: at most ceil(log2(2000)) = 11 more levels.
+            assert!(b.depth <= limit + 11, "limit {limit}: depth {}", b.depth);
+            assert_ne!(b.nodes, sah.nodes, "limit {limit} changed nothing");
+            let mut ids = b.ids.clone();
+            ids.sort_unstable();
+            assert!(ids.iter().enumerate().all(|(i, &id)| id == i as u32));
+        }
+    }
+
+    #[test]
+    fn bin_of_clamps_and_maps_nan_to_zero() {
+        assert_eq!(bin_of(10.0, 0.0, 1.6, 16), 15);
+        assert_eq!(bin_of(0.0, 0.0, 1.6, 16), 0);
+        assert_eq!(bin_of(0.0, 0.0, f32::INFINITY, 16), 0);
+        assert_eq!(bin_of(1.0, 0.0, f32::INFINITY, 16), 15);
+    }
+}

@@ -1,0 +1,124 @@
+//! The binned-SAH bounding volume hierarchy of seed 003 (Martins 2010, §2.3 and §3.3):
+//! a binary BVH over triangle centroids, split by the surface-area heuristic evaluated on
+//! `k` bins per axis, stored as a flat array of 32-byte nodes.
+//!
+//! Files: [`params`] (presets), [`node`] (encoding), `build.rs` (parallel deterministic
+//! builder), `traverse.rs` (closest and any hit), `refit.rs`, `validate.rs`.
+//!
+//! Leaf size `M` (the seed found 5): measured with `benches/bvh.rs` on this 2-core machine,
+//! see the comment on [`BvhParams::default`].
+
+mod build;
+pub mod node;
+pub mod params;
+mod refit;
+mod traverse;
+mod validate;
+
+pub use node::BvhNode;
+pub use params::BvhParams;
+pub use validate::{BvhStats, InvalidBvh};
+
+use crate::{Accel, AccelStats, BuildError, NoCount, TraversalCounts};
+use dynray_geom::{Hit, Ray, Triangle, TriangleMesh};
+
+/// A binned-SAH BVH over one mesh.
+#[derive(Clone, Debug)]
+pub struct Bvh {
+    /// Root first; children pairs adjacent (see [`BvhNode`]).
+    nodes: Vec<BvhNode>,
+    /// Copies of the mesh's triangles in leaf order, so leaves read contiguous memory.
+    tris: Vec<Triangle>,
+    /// `ids[i]` = the mesh index of `tris[i]`.
+    ids: Vec<u32>,
+    /// The parameters it was built with (SAH constants feed `stats`).
+    params: BvhParams,
+    /// Depth of the deepest leaf (root = 0): picks the traversal stack size.
+    depth: u32,
+}
+
+impl Bvh {
+    /// Builds the tree over `mesh`. Errors on invalid parameters, an invalid mesh
+    /// (empty, non-finite, bad index) or more than 2^31 - 1 triangles.
+    pub fn build(mesh: &TriangleMesh, params: &BvhParams) -> Result<Self, BuildError> {
+        let built = build::build(mesh, params)?;
+        let bvh = Self { nodes: built.nodes, tris: built.tris, ids: built.ids, params: *params, depth: built.depth };
+        #[cfg(debug_assertions)]
+        if let Err(e) = bvh.validate(mesh) {
+            panic!("the builder produced an invalid BVH: {e}");
+        }
+        Ok(bvh)
+    }
+
+    /// The node array, root first.
+    pub fn nodes(&self) -> &[BvhNode] {
+        &self.nodes
+    }
+
+    /// Triangles in leaf order.
+    pub fn triangles(&self) -> &[Triangle] {
+        &self.tris
+    }
+
+    /// Mesh index of each leaf-order triangle.
+    pub fn triangle_ids(&self) -> &[u32] {
+        &self.ids
+    }
+
+    /// The parameters of the build.
+    pub fn params(&self) -> &BvhParams {
+        &self.params
+    }
+}
+
+impl Accel for Bvh {
+    fn name(&self) -> &'static str {
+        "bvh"
+    }
+
+    fn intersect(&self, ray: &Ray) -> Hit {
+        self.traverse(ray, &mut NoCount)
+    }
+
+    fn occluded(&self, ray: &Ray) -> bool {
+        self.any_hit(ray, &mut NoCount)
+    }
+
+    fn intersect_counted(&self, ray: &Ray, counts: &mut TraversalCounts) -> Hit {
+        self.traverse(ray, counts)
+    }
+
+    fn memory_bytes(&self) -> usize {
+        use std::mem::size_of;
+        self.nodes.len() * size_of::<BvhNode>() + self.tris.len() * size_of::<Triangle>() + self.ids.len() * 4
+    }
+
+    fn stats(&self) -> AccelStats {
+        // A tree this type built or refitted is valid; should that ever break, report the
+        // breakage instead of panicking in a listing.
+        let (s, extra) = match self.check_shape() {
+            Ok(s) => (s, Vec::new()),
+            Err(e) => (BvhStats::default(), vec![("invalid".to_string(), e.to_string())]),
+        };
+        let mut extra = extra;
+        extra.push(("bins".into(), self.params.bins.to_string()));
+        extra.push(("leaf_size".into(), self.params.leaf_size.to_string()));
+        AccelStats {
+            nodes: s.nodes,
+            leaves: s.leaves,
+            max_depth: s.max_depth,
+            primitive_refs: self.tris.len(),
+            leaf_sizes: s.leaf_sizes,
+            sah_cost: s.sah_cost,
+            memory_bytes: self.memory_bytes(),
+            extra,
+        }
+    }
+
+    fn update(&mut self, mesh: &TriangleMesh) -> Result<(), BuildError> {
+        self.refit(mesh)
+    }
+}
+
+#[cfg(test)]
+mod tests;
