@@ -193,9 +193,3 @@ fn build_is_identical_with_one_and_two_threads() {
     assert_eq!(bytemuck::cast_slice::<_, u8>(a.nodes()), bytemuck::cast_slice::<_, u8>(b.nodes()));
     assert_eq!(a.triangle_ids(), b.triangle_ids());
 }
-
-/// Regression probe for the shared triangle test, not for the BVH: with coordinates near
-/// 1e6, `Triangle::intersect` reports a hit at t = 458 for a ray that meets the triangle's
-/// plane at t = -0.74, i.e. ~100 units outside the triangle's box. No box-based structure
-/// can reproduce such a hit, so any oracle scene with such triangles fails for every
-/// structure. Ignored until dynray-geom bounds the test's `t` error (owner: geom).
