@@ -10,10 +10,12 @@ mod accel;
 pub mod brute;
 mod counters;
 mod error;
+pub mod octree;
 mod registry;
 
 pub use accel::{intersect_batch, occluded_batch, Accel, AccelStats};
 pub use brute::Brute;
 pub use counters::{Counter, NoCount, TraversalCounts};
 pub use error::BuildError;
+pub use octree::{Octree, OctreeDescent, OctreeParams};
 pub use registry::AccelKind;

@@ -1,6 +1,6 @@
 //! Choosing a structure by name (`--accel NAME`) and building it with default parameters.
 
-use crate::{Accel, Brute, BuildError};
+use crate::{Accel, Brute, BuildError, Octree, OctreeDescent, OctreeParams};
 use dynray_geom::TriangleMesh;
 
 /// Every structure the engine offers, by the name `--accel` accepts.
@@ -8,16 +8,22 @@ use dynray_geom::TriangleMesh;
 pub enum AccelKind {
     /// [`Brute`]: every triangle for every ray (the oracle).
     Brute,
+    /// [`Octree`]: 2:1-balanced leaf octree walked by neighbour links (seed 002).
+    Octree,
+    /// [`OctreeDescent`]: the same octree, top-down parametric descent (Revelles 2000).
+    OctreeDescent,
 }
 
 impl AccelKind {
     /// All kinds, in the order listings show them.
-    pub const ALL: &'static [AccelKind] = &[AccelKind::Brute];
+    pub const ALL: &'static [AccelKind] = &[AccelKind::Brute, AccelKind::Octree, AccelKind::OctreeDescent];
 
     /// The `--accel` spelling.
     pub fn name(self) -> &'static str {
         match self {
             AccelKind::Brute => "brute",
+            AccelKind::Octree => "octree",
+            AccelKind::OctreeDescent => "octree-descent",
         }
     }
 
@@ -25,6 +31,8 @@ impl AccelKind {
     pub fn build(self, mesh: &TriangleMesh) -> Result<Box<dyn Accel>, BuildError> {
         Ok(match self {
             AccelKind::Brute => Box::new(Brute::build(mesh)?),
+            AccelKind::Octree => Box::new(Octree::build(mesh, &OctreeParams::default())?),
+            AccelKind::OctreeDescent => Box::new(OctreeDescent::build(mesh, &OctreeParams::default())?),
         })
     }
 }
