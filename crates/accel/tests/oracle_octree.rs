@@ -139,12 +139,16 @@ fn grid_mesh(n: usize, f: impl Fn(f32, f32) -> [f32; 3]) -> TriangleMesh {
 fn degenerate_check(mesh: &TriangleMesh, label: &str, max_refs: usize) {
     let mut rays = random_rays(mesh, 4_000, 41);
     rays.extend(adversarial_rays(mesh, 1_000, 42));
+    degenerate_check_with(mesh, label, max_refs, &rays);
+}
+
+fn degenerate_check_with(mesh: &TriangleMesh, label: &str, max_refs: usize, rays: &[Ray]) {
     for (name, p) in [("balanced", OctreeParams::default()), ("unbalanced", OctreeParams::unbalanced())] {
         let (walk, descent) = both(mesh, &p);
         let s = walk.stats();
         assert!(s.primitive_refs <= max_refs, "{label} {name}: {} refs", s.primitive_refs);
-        assert_matches_oracle(&walk, mesh, &rays, &format!("{label} {name}"));
-        assert_matches_oracle(&descent, mesh, &rays, &format!("{label} {name}"));
+        assert_matches_oracle(&walk, mesh, rays, &format!("{label} {name}"));
+        assert_matches_oracle(&descent, mesh, rays, &format!("{label} {name}"));
     }
 }
 
@@ -162,10 +166,25 @@ fn coplanar_scene() {
 
 #[test]
 fn all_triangles_in_one_point() {
+    // The shared ray generators need a box with volume; aim rays at and through the point.
+    let point_rays = |p: Vec3| -> Vec<Ray> {
+        (0..2_000)
+            .map(|i| {
+                let a = i as f32 * 0.7;
+                let d = Vec3::new(a.cos(), (a * 1.3).sin(), (a * 0.4).cos() - 0.3);
+                match i % 4 {
+                    0 => Ray::new(p - d, d),
+                    1 => Ray::new(p, d),
+                    2 => Ray::new(p + d * 1e-3 * (i as f32), -d),
+                    _ => Ray::new(p + Vec3::new(0.0, 1e-3, 0.0), d),
+                }
+            })
+            .collect()
+    };
     let mesh = TriangleMesh::new(vec![[0.3, -2.0, 7.0]], vec![[0, 0, 0]; 1000]);
-    degenerate_check(&mesh, "one point", 1000);
+    degenerate_check_with(&mesh, "one point", 1000, &point_rays(Vec3::new(0.3, -2.0, 7.0)));
     let origin = TriangleMesh::new(vec![[0.0; 3]], vec![[0, 0, 0]; 10]);
-    degenerate_check(&origin, "one point at the origin", 10);
+    degenerate_check_with(&origin, "one point at the origin", 10, &point_rays(Vec3::ZERO));
 }
 
 #[test]
@@ -179,8 +198,11 @@ fn single_triangle() {
 #[test]
 fn many_identical_triangles() {
     // 100k copies of one triangle: no split can separate them, so none is made.
+    // Few rays: every one of them tests all 100k copies (brute force and octree alike).
     let mesh = TriangleMesh::new(vec![[0.0, 0.0, 0.0], [1.0, 0.2, 0.0], [0.3, 1.0, 0.7]], vec![[0, 1, 2]; 100_000]);
-    degenerate_check(&mesh, "100k identical", 800_000);
+    let mut rays = random_rays(&mesh, 150, 43);
+    rays.extend(adversarial_rays(&mesh, 50, 44));
+    degenerate_check_with(&mesh, "100k identical", 800_000, &rays);
 }
 
 #[test]

@@ -10,6 +10,7 @@ use super::tables::{in_face_axes, neighbor_slot, FACE_AXIS, FACE_POSITIVE};
 use crate::BuildError;
 use dynray_geom::{Aabb, Triangle, TriangleMesh};
 use glam::Vec3;
+use rayon::prelude::*;
 
 /// The root cube every cell box derives from.
 #[derive(Clone, Copy, Debug)]
@@ -244,25 +245,42 @@ pub(super) fn build(mesh: &TriangleMesh, params: &OctreeParams) -> Result<Built,
     let mut b = Builder { nodes: Vec::new(), frame, eps, verts: &verts, tri_lo: &tri_lo, tri_hi: &tri_hi };
     b.nodes.push(BNode { cell: [0; 3], depth: 0, first_child: NONE, tris: (0..n_tris as u32).collect() });
 
-    // Subdivision, depth first. A split that leaves some child with all of the parent's
-    // triangles makes no progress (identical or huge overlapping triangles) and is undone,
-    // and a global reference budget bounds memory on pathological inputs.
+    // Subdivision, level by level so that the overlap tests of a whole level run in
+    // parallel. A split where some child keeps all of the parent's
+    // triangles reduces nothing ("bad", as pbrt's kd-tree calls it): it is allowed at most
+    // twice on a path and only when it at most doubles the references, so identical or
+    // huge overlapping triangles cannot multiply without bound; a global reference budget
+    // is the last guard on pathological inputs.
     let budget = 64 * n_tris + (1 << 20);
     let mut refs = n_tris;
-    let mut stack = vec![0usize];
-    while let Some(n) = stack.pop() {
-        let count = b.nodes[n].tris.len();
-        if b.nodes[n].depth >= params.max_depth || count <= params.leaf_threshold as usize || refs > budget {
-            continue;
+    let mut frontier = vec![(0usize, 0u32)];
+    while !frontier.is_empty() {
+        frontier.retain(|&(n, _)| {
+            let node = &b.nodes[n];
+            node.depth < params.max_depth && node.tris.len() > params.leaf_threshold as usize
+        });
+        let splits: Vec<Option<([Vec<u32>; 8], bool)>> = frontier
+            .par_iter()
+            .map(|&(n, bad)| {
+                let count = b.nodes[n].tris.len();
+                let lists = b.child_lists(n);
+                let total: usize = lists.iter().map(Vec::len).sum();
+                let good = lists.iter().all(|l| l.len() < count);
+                (good || (bad < 2 && total <= 2 * count)).then_some((lists, good))
+            })
+            .collect();
+        let mut next = Vec::new();
+        for (&(n, bad), split) in frontier.iter().zip(splits) {
+            let Some((lists, good)) = split else { continue };
+            if refs > budget {
+                break;
+            }
+            refs += lists.iter().map(Vec::len).sum::<usize>() - b.nodes[n].tris.len();
+            let first = b.nodes.len();
+            b.attach(n, lists);
+            next.extend((first..first + 8).map(|c| (c, bad + !good as u32)));
         }
-        let lists = b.child_lists(n);
-        if lists.iter().any(|l| l.len() >= count) {
-            continue;
-        }
-        refs += lists.iter().map(Vec::len).sum::<usize>() - count;
-        let first = b.nodes.len();
-        b.attach(n, lists);
-        stack.extend((first..first + 8).rev());
+        frontier = next;
     }
     let leaves_before_balance = b.nodes.iter().filter(|n| n.first_child == NONE).count();
     if params.balance {
@@ -304,7 +322,7 @@ fn serialise(b: &Builder, frame: Frame, leaves_before_balance: usize) -> Result<
             stack.extend((node.first_child as usize..node.first_child as usize + 8).rev());
         }
     }
-    let nbrs: Vec<[Nbr; 6]> = leaves.iter().map(|&l| std::array::from_fn(|f| b.neighbors(l, f))).collect();
+    let nbrs: Vec<[Nbr; 6]> = leaves.par_iter().map(|&l| std::array::from_fn(|f| b.neighbors(l, f))).collect();
     let words = |nb: &[Nbr; 6]| {
         4 + nb
             .iter()
@@ -417,21 +435,23 @@ fn cube_map(b: &Builder, leaves: &[usize], addr: &[u32]) -> (Vec<u32>, u32) {
     for (i, &l) in leaves.iter().enumerate() {
         leaf_index[l] = i as u32;
     }
-    let mut map = Vec::with_capacity(6 * (r * r) as usize);
-    for f in 0..6 {
-        let a = FACE_AXIS[f];
-        let (u, w) = in_face_axes(f);
-        for tw in 0..r {
-            for tu in 0..r {
+    let map: Vec<u32> = (0..6 * r)
+        .into_par_iter()
+        .flat_map_iter(|row| {
+            let (f, tw) = ((row / r) as usize, row % r);
+            let a = FACE_AXIS[f];
+            let (u, w) = in_face_axes(f);
+            let leaf_index = &leaf_index;
+            (0..r).map(move |tu| {
                 let mut cell = [0u32; 3];
                 cell[a] = if FACE_POSITIVE[f] { r - 1 } else { 0 };
                 cell[u] = tu;
                 cell[w] = tw;
                 let n = b.covering(cell, depth);
                 debug_assert_eq!(b.nodes[n].first_child, NONE, "boundary cells are no deeper than the cube map");
-                map.push(addr[leaf_index[n] as usize]);
-            }
-        }
-    }
+                addr[leaf_index[n] as usize]
+            })
+        })
+        .collect();
     (map, depth)
 }
