@@ -55,8 +55,8 @@ fn every_preset_matches_brute_on_bunny_sample() {
         check_both(&mesh, &p, &rays, name);
     }
     // Small leaves and deep trees stress the walk hardest.
-    let deep = OctreeParams { max_depth: 11, leaf_threshold: 1, balance: true };
-    check_both(&mesh, &deep, &rays, "depth 11, 1 per leaf");
+    let deep = OctreeParams { max_depth: 10, leaf_threshold: 2, balance: true };
+    check_both(&mesh, &deep, &rays, "depth 10, 2 per leaf");
 }
 
 #[test]
@@ -263,4 +263,31 @@ fn bad_parameters_are_errors() {
     let mesh = bunny();
     assert!(Octree::build(&mesh, &OctreeParams { max_depth: 40, ..Default::default() }).is_err());
     assert!(Octree::build(&mesh, &OctreeParams { leaf_threshold: 0, ..Default::default() }).is_err());
+}
+
+#[test]
+fn malformed_rays_never_panic_or_hit() {
+    let mesh = bunny();
+    let (walk, descent) = both(&mesh, &OctreeParams::default());
+    let c = mesh.bounds().center();
+    let bad = [
+        Ray::new(c, Vec3::ZERO),
+        Ray::new(c, Vec3::new(f32::NAN, 1.0, 0.0)),
+        Ray::with_interval(c, Vec3::X, 2.0, 1.0),
+        Ray::with_interval(c, Vec3::X, f32::NAN, f32::NAN),
+    ];
+    for r in &bad {
+        for a in [&walk as &dyn Accel, &descent] {
+            assert!(!a.intersect(r).is_hit() && !a.occluded(r), "{} hit on {r:?}", a.name());
+        }
+    }
+    // Infinite components and far-away origins: any answer, but no panic or endless walk.
+    for r in [
+        Ray::new(c, Vec3::new(f32::INFINITY, 0.0, 0.0)),
+        Ray::new(c, Vec3::new(f32::INFINITY, -f32::INFINITY, 1.0)),
+        Ray::new(Vec3::splat(1e30), -Vec3::ONE),
+        Ray::new(Vec3::splat(-3e38), Vec3::new(1.0, 1e-30, 1.0)),
+    ] {
+        let _ = (walk.intersect(&r), descent.intersect(&r), walk.occluded(&r), descent.occluded(&r));
+    }
 }

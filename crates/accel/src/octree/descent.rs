@@ -72,7 +72,8 @@ impl Frame {
 impl Octree {
     /// Closest hit (or, with `ANY`, any hit) by top-down descent.
     pub(super) fn descend<C: Counter, const ANY: bool>(&self, ray: &Ray, c: &mut C) -> Hit {
-        if !(ray.dir.abs().max_element() > 0.0) {
+        // A zero or NaN direction hits nothing (the triangle test divides by it).
+        if ray.dir.is_nan() || ray.dir == Vec3::ZERO {
             return Hit::MISS;
         }
         let r = PreparedRay::new(ray);
