@@ -291,3 +291,46 @@ fn malformed_rays_never_panic_or_hit() {
         let _ = (walk.intersect(&r), descent.intersect(&r), walk.occluded(&r), descent.occluded(&r));
     }
 }
+
+#[test]
+fn rays_through_leaf_corners_and_edges() {
+    // Aimed at the built tree's own leaf corners and edge midpoints, where the Plücker
+    // signs are zero or within rounding of it, and started on them (secondary rays).
+    use rand::{rngs::SmallRng, Rng, SeedableRng};
+    let mesh = bunny();
+    for p in [OctreeParams::default(), OctreeParams::unbalanced()] {
+        let (walk, descent) = both(&mesh, &p);
+        let boxes = walk.boxes();
+        let mut rng = SmallRng::seed_from_u64(51);
+        let b = mesh.bounds();
+        let diag = b.extent().length();
+        let mut rays = Vec::new();
+        for i in 0..6_000 {
+            let lb = boxes[rng.gen_range(0..boxes.len())];
+            let pick = |rng: &mut SmallRng| {
+                Vec3::new(
+                    if rng.gen() { lb.min.x } else { lb.max.x },
+                    if rng.gen() { lb.min.y } else { lb.max.y },
+                    if rng.gen() { lb.min.z } else { lb.max.z },
+                )
+            };
+            let corner = pick(&mut rng);
+            let target = if i % 2 == 0 { corner } else { (corner + pick(&mut rng)) * 0.5 };
+            let far = b.center()
+                + Vec3::new(rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0)) * diag;
+            match i % 3 {
+                0 => rays.push(Ray::new(far, target - far)),
+                1 => rays.push(Ray::new(target, far - target)),
+                _ => {
+                    // Axis-parallel and diagonal directions through the point.
+                    let dirs = [Vec3::X, -Vec3::Y, Vec3::Z, Vec3::new(1.0, 1.0, 0.0), Vec3::new(-1.0, 1.0, -1.0)];
+                    let d = dirs[rng.gen_range(0..dirs.len())];
+                    rays.push(Ray::new(target - d * diag, d));
+                }
+            }
+        }
+        let label = if p.balance { "leaf corners balanced" } else { "leaf corners unbalanced" };
+        assert_matches_oracle(&walk, &mesh, &rays, label);
+        assert_matches_oracle(&descent, &mesh, &rays, label);
+    }
+}
