@@ -14,6 +14,7 @@ mod counters;
 mod error;
 pub mod grid;
 pub mod kdtree;
+pub mod octree;
 mod registry;
 
 pub use accel::{intersect_batch, occluded_batch, Accel, AccelStats};
@@ -24,4 +25,5 @@ pub use counters::{Counter, NoCount, TraversalCounts};
 pub use error::BuildError;
 pub use grid::{Grid, GridParams};
 pub use kdtree::{KdTree, KdTreeParams, KdTreeRopes};
+pub use octree::{Octree, OctreeDescent, OctreeParams};
 pub use registry::AccelKind;

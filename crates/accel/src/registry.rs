@@ -1,6 +1,9 @@
 //! Choosing a structure by name (`--accel NAME`) and building it with default parameters.
 
-use crate::{Accel, Bih, BihParams, Brute, BuildError, Bvh, BvhParams, Grid, GridParams, KdTree, KdTreeRopes};
+use crate::{
+    Accel, Bih, BihParams, Brute, BuildError, Bvh, BvhParams, Grid, GridParams, KdTree, KdTreeRopes, Octree,
+    OctreeDescent, OctreeParams,
+};
 use dynray_geom::TriangleMesh;
 
 /// Every structure the engine offers, by the name `--accel` accepts.
@@ -18,12 +21,24 @@ pub enum AccelKind {
     KdTree,
     /// [`KdTreeRopes`]: SAH kd-tree, stackless Ropes++ traversal.
     KdTreeRopes,
+    /// [`Octree`]: 2:1-balanced leaf octree walked by neighbour links (seed 002).
+    Octree,
+    /// [`OctreeDescent`]: the same octree, top-down parametric descent (Revelles 2000).
+    OctreeDescent,
 }
 
 impl AccelKind {
     /// All kinds, in the order listings show them.
-    pub const ALL: &'static [AccelKind] =
-        &[AccelKind::Brute, AccelKind::Bvh, AccelKind::Bih, AccelKind::KdTree, AccelKind::KdTreeRopes, AccelKind::Grid];
+    pub const ALL: &'static [AccelKind] = &[
+        AccelKind::Brute,
+        AccelKind::Bvh,
+        AccelKind::Bih,
+        AccelKind::KdTree,
+        AccelKind::KdTreeRopes,
+        AccelKind::Octree,
+        AccelKind::OctreeDescent,
+        AccelKind::Grid,
+    ];
 
     /// The `--accel` spelling.
     pub fn name(self) -> &'static str {
@@ -34,6 +49,8 @@ impl AccelKind {
             AccelKind::KdTree => "kdtree",
             AccelKind::KdTreeRopes => "kdtree-ropes",
             AccelKind::Bvh => "bvh",
+            AccelKind::Octree => "octree",
+            AccelKind::OctreeDescent => "octree-descent",
         }
     }
 
@@ -46,6 +63,8 @@ impl AccelKind {
             AccelKind::KdTree => Box::new(KdTree::build(mesh)?),
             AccelKind::KdTreeRopes => Box::new(KdTreeRopes::build(mesh)?),
             AccelKind::Bvh => Box::new(Bvh::build(mesh, &BvhParams::default())?),
+            AccelKind::Octree => Box::new(Octree::build(mesh, &OctreeParams::default())?),
+            AccelKind::OctreeDescent => Box::new(OctreeDescent::build(mesh, &OctreeParams::default())?),
         })
     }
 }
