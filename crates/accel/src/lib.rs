@@ -7,12 +7,14 @@
 #![deny(missing_docs)]
 
 mod accel;
+pub mod apit;
 pub mod brute;
 mod counters;
 mod error;
 mod registry;
 
 pub use accel::{intersect_batch, occluded_batch, Accel, AccelStats};
+pub use apit::{ABuffer, Apit, ApitParams, Fragment};
 pub use brute::Brute;
 pub use counters::{Counter, NoCount, TraversalCounts};
 pub use error::BuildError;

@@ -1,6 +1,6 @@
 //! Choosing a structure by name (`--accel NAME`) and building it with default parameters.
 
-use crate::{Accel, Brute, BuildError};
+use crate::{ABuffer, Accel, Apit, ApitParams, Brute, BuildError};
 use dynray_geom::TriangleMesh;
 
 /// Every structure the engine offers, by the name `--accel` accepts.
@@ -8,16 +8,22 @@ use dynray_geom::TriangleMesh;
 pub enum AccelKind {
     /// [`Brute`]: every triangle for every ray (the oracle).
     Brute,
+    /// [`Apit`]: A-buffers on a cube around the mesh centre with pseudo-interval trees.
+    Apit,
+    /// [`ABuffer`]: the same A-buffers with plain per-pixel lists (seed 004's baseline).
+    ABuffer,
 }
 
 impl AccelKind {
     /// All kinds, in the order listings show them.
-    pub const ALL: &'static [AccelKind] = &[AccelKind::Brute];
+    pub const ALL: &'static [AccelKind] = &[AccelKind::Brute, AccelKind::Apit, AccelKind::ABuffer];
 
     /// The `--accel` spelling.
     pub fn name(self) -> &'static str {
         match self {
             AccelKind::Brute => "brute",
+            AccelKind::Apit => "apit",
+            AccelKind::ABuffer => "abuffer",
         }
     }
 
@@ -25,6 +31,8 @@ impl AccelKind {
     pub fn build(self, mesh: &TriangleMesh) -> Result<Box<dyn Accel>, BuildError> {
         Ok(match self {
             AccelKind::Brute => Box::new(Brute::build(mesh)?),
+            AccelKind::Apit => Box::new(Apit::build(mesh, &ApitParams::default())?),
+            AccelKind::ABuffer => Box::new(ABuffer::build(mesh, &ApitParams::default())?),
         })
     }
 }
