@@ -41,23 +41,27 @@ fn outside(mesh: &TriangleMesh) -> Vec3 {
     b.max + b.extent() * Vec3::new(0.31, 0.17, 0.23)
 }
 
-/// Rays that stress the observer: from it, through it, along the planes through it that
-/// bound pixel columns and rows (the axis planes at even resolutions) and along cube
-/// edges (the diagonal planes), from inside and outside the mesh.
-fn observer_rays(mesh: &TriangleMesh, observer: Vec3, n: usize, seed: u64) -> Vec<Ray> {
-    let mut rng = SmallRng::seed_from_u64(seed);
-    let b = mesh.bounds();
-    let diag = b.extent().length().max(1.0);
-    let mut rd = || loop {
+fn rdir(rng: &mut SmallRng) -> Vec3 {
+    loop {
         let v = Vec3::new(rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0));
         if v.length_squared() > 1e-3 {
             return v.normalize();
         }
-    };
+    }
+}
+
+/// Rays that stress the observer: from it, through it, along the planes through it that
+/// bound pixel columns and rows (the axis planes at even resolutions) and along cube
+/// edges (the diagonal planes), along other column boundaries, from inside and outside
+/// the mesh.
+fn observer_rays(mesh: &TriangleMesh, observer: Vec3, n: usize, seed: u64) -> Vec<Ray> {
+    let mut rng = SmallRng::seed_from_u64(seed);
+    let b = mesh.bounds();
+    let diag = b.extent().length().max(1.0);
     let mut out = Vec::with_capacity(n);
     for i in 0..n {
-        let d = rd();
-        let r = match i % 6 {
+        let d = rdir(&mut rng);
+        let r = match i % 7 {
             0 => Ray::new(observer, d),
             1 => Ray::new(observer - d * diag, d),
             2 => {
@@ -65,7 +69,7 @@ fn observer_rays(mesh: &TriangleMesh, observer: Vec3, n: usize, seed: u64) -> Ve
                 let mut d = d;
                 let k = i / 6 % 3;
                 d[k] = 0.0;
-                let mut o = observer + rd() * diag * 0.7;
+                let mut o = observer + rdir(&mut rng) * diag * 0.7;
                 o[k] = observer[k];
                 Ray::new(o, d)
             }
@@ -76,13 +80,21 @@ fn observer_rays(mesh: &TriangleMesh, observer: Vec3, n: usize, seed: u64) -> Ve
                 let s = if i % 2 == 0 { 1.0 } else { -1.0 };
                 let mut d = d;
                 d[c] = s * d[a];
-                let mut o = rd() * diag * 0.7;
+                let mut o = rdir(&mut rng) * diag * 0.7;
                 o[c] = s * o[a];
                 Ray::new(observer + o, d)
             }
-            4 => Ray::new(observer + rd() * diag * 1e-6, d),
+            4 => Ray::new(observer + rdir(&mut rng) * diag * 1e-6, d),
+            5 => {
+                // In the plane through the observer bounding pixel columns k and k + 1
+                // of face +z at resolution 64 (hence also 128, 256): x = b·z, b = -1 + k/32.
+                let b = -1.0 + rng.gen_range(0..=64) as f32 / 32.0;
+                let (z0, dz) = (rng.gen_range(-1.0..1.0) * diag, d.z);
+                let o = observer + Vec3::new(b * z0, rng.gen_range(-1.0..1.0) * diag, z0);
+                Ray::new(o, Vec3::new(b * dz, d.y, dz))
+            }
             _ => {
-                let o = observer + rd() * diag * 0.8;
+                let o = observer + rdir(&mut rng) * diag * 0.8;
                 Ray::new(o, observer - o)
             }
         };
@@ -94,7 +106,7 @@ fn observer_rays(mesh: &TriangleMesh, observer: Vec3, n: usize, seed: u64) -> Ve
 #[test]
 fn bunny_observer_at_centre() {
     let mesh = bunny();
-    let extra = observer_rays(&mesh, mesh.bounds().center(), 6_000, 11);
+    let extra = observer_rays(&mesh, mesh.bounds().center(), 3_000, 11);
     check_standard(&mesh, &ApitParams::fast(), &bunny_rays(&mesh), &extra, "bunny, centre, R=64");
 }
 
@@ -102,14 +114,14 @@ fn bunny_observer_at_centre() {
 fn bunny_observer_outside() {
     let mesh = bunny();
     let o = outside(&mesh);
-    let extra = observer_rays(&mesh, o, 6_000, 12);
+    let extra = observer_rays(&mesh, o, 3_000, 12);
     check_standard(&mesh, &ApitParams::default().with_observer(o), &bunny_rays(&mesh), &extra, "bunny, outside, R=128");
 }
 
 #[test]
 fn dragon_observer_at_centre() {
     let mesh = dragon_res2();
-    let extra = observer_rays(&mesh, mesh.bounds().center(), 3_000, 13);
+    let extra = observer_rays(&mesh, mesh.bounds().center(), 1_500, 13);
     check_standard(&mesh, &ApitParams::default(), &dragon_rays(&mesh), &extra, "dragon, centre, R=128");
 }
 
@@ -117,7 +129,7 @@ fn dragon_observer_at_centre() {
 fn dragon_observer_outside() {
     let mesh = dragon_res2();
     let o = outside(&mesh);
-    let extra = observer_rays(&mesh, o, 3_000, 14);
+    let extra = observer_rays(&mesh, o, 1_500, 14);
     check_standard(&mesh, &ApitParams::fast().with_observer(o), &dragon_rays(&mesh), &extra, "dragon, outside, R=64");
 }
 
@@ -277,12 +289,17 @@ fn many_identical_triangles() {
 #[test]
 fn extreme_aspect_ratio() {
     // A strip 1e6 long and 1 wide: near the observer triangles subtend whole faces.
+    // It lies in the plane z = 0 (through the centre observer): a tilted strip, e.g. in
+    // z = 0.3·y, made the shared triangle test itself report hits hundreds of units away
+    // from the triangle for rays running along its edges in its plane (rounding in the
+    // shear: ray (-393500, 1, 0.3) + t·(500, -1, -0.3) "hits" triangle 2171 at t = 873),
+    // which no structure that culls by position can reproduce.
     let n = 2_000u32;
     let mut pos = Vec::new();
     for i in 0..=n {
         let x = 1e6 * i as f32 / n as f32 - 5e5;
         pos.push([x, 0.0, 0.0]);
-        pos.push([x, 1.0, 0.3]);
+        pos.push([x, 1.0, 0.0]);
     }
     let idx = (0..n).flat_map(|i| [[2 * i, 2 * i + 2, 2 * i + 1], [2 * i + 1, 2 * i + 2, 2 * i + 3]]).collect();
     degenerate(&TriangleMesh::new(pos, idx), "1e6:1 strip", 256 << 20);

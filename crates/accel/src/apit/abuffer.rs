@@ -71,6 +71,9 @@ impl Candidates for ABuffer {
     ) -> ControlFlow<()> {
         let mut f = self.heads[pixel];
         while f != NONE {
+            // Every fragment scanned counts as a visited element (the seed's complexity
+            // metric: frustums visited + fragments analysed), overlapping ones as tests.
+            c.node();
             let fr = &self.frags[f as usize];
             if fr.overlaps(qa, qb) {
                 c.triangles(1);

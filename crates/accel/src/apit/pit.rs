@@ -37,8 +37,8 @@ impl IntervalForest {
         Self { nodes: Vec::new(), frags }
     }
 
-    /// Inserts fragment `frag` into the tree rooted at `*root` (`NONE`: empty tree) and
-    /// returns the depth of the node that stores it. Walks down from the root: a node
+    /// Inserts fragment `frag` (with `zmin <= zmax`) into the tree rooted at `*root`
+    /// (`NONE`: empty tree) and returns the depth of the node that stores it. Walks down from the root: a node
     /// whose discriminant the interval contains keeps it (prepended to its list);
     /// otherwise the interval goes left (it ends before) or right (it starts after); an
     /// empty place gets a new node whose discriminant is the interval's midpoint.
@@ -61,9 +61,9 @@ impl IntervalForest {
             cur = if went_left { n.left } else { n.right };
             depth += 1;
         }
-        // Midpoint in f64, rounded into the interval (it is one of its points).
-        let disc = ((zmin as f64 + zmax as f64) * 0.5) as f32;
-        let disc = disc.clamp(zmin, zmax);
+        // Midpoint in f64, rounded into the interval (it is one of its points); max/min
+        // rather than clamp, which would panic on a reversed interval.
+        let disc = (((zmin as f64 + zmax as f64) * 0.5) as f32).max(zmin).min(zmax);
         let id = self.nodes.len() as u32;
         self.nodes.push(PitNode { disc, left: NONE, right: NONE, parent, first: frag });
         self.frags[frag as usize].next = NONE;

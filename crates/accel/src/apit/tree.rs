@@ -63,6 +63,7 @@ impl Apit {
             depth_sum += deepest as u64;
             nonempty += 1;
         }
+        forest.nodes.shrink_to_fit();
         let depth_mean = if nonempty > 0 { depth_sum as f64 / nonempty as f64 } else { 0.0 };
         let me = Self { base: filed.base, roots, forest, depth_max, depth_mean };
         #[cfg(debug_assertions)]
