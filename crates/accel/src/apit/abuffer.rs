@@ -26,10 +26,10 @@ impl ABuffer {
         let mut frags = filed.frags;
         let pixels = filed.base.cube.pixels();
         let mut heads = vec![NONE; pixels];
-        for p in 0..pixels {
+        for (p, head) in heads.iter_mut().enumerate() {
             let (s, e) = (filed.offsets[p], filed.offsets[p + 1]);
             if s < e {
-                heads[p] = s;
+                *head = s;
                 for k in s..e - 1 {
                     frags[k as usize].next = k + 1;
                 }

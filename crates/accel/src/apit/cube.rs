@@ -116,7 +116,7 @@ pub const FACE_PLANES: [DVec3; 4] = [
 #[inline(always)]
 pub fn to_face(f: usize, q: DVec3) -> DVec3 {
     let a = f / 2;
-    let s = if f % 2 == 0 { 1.0 } else { -1.0 };
+    let s = if f & 1 == 0 { 1.0 } else { -1.0 };
     DVec3::new(q[(a + 1) % 3], q[(a + 2) % 3], s * q[a])
 }
 

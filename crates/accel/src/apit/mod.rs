@@ -15,6 +15,10 @@
 //! walk is clipped to the mesh bounds instead of a "negligible light" distance; tree
 //! insertion order is pseudo-random instead of rasterisation order.
 
+// NaN-safe comparisons are written `!(a <= b)` on purpose: a NaN must take the
+// conservative branch, which `a > b` would not.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 mod abuffer;
 mod build;
 mod cube;
