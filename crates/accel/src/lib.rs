@@ -7,6 +7,7 @@
 #![deny(missing_docs)]
 
 mod accel;
+pub mod apit;
 pub mod bih;
 pub mod brute;
 pub mod bvh;
@@ -18,6 +19,7 @@ pub mod octree;
 mod registry;
 
 pub use accel::{intersect_batch, occluded_batch, Accel, AccelStats};
+pub use apit::{ABuffer, Apit, ApitParams, Fragment};
 pub use bih::{Bih, BihParams};
 pub use brute::Brute;
 pub use bvh::{Bvh, BvhParams};

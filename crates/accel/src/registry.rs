@@ -1,8 +1,8 @@
 //! Choosing a structure by name (`--accel NAME`) and building it with default parameters.
 
 use crate::{
-    Accel, Bih, BihParams, Brute, BuildError, Bvh, BvhParams, Grid, GridParams, KdTree, KdTreeRopes, Octree,
-    OctreeDescent, OctreeParams,
+    ABuffer, Accel, Apit, ApitParams, Bih, BihParams, Brute, BuildError, Bvh, BvhParams, Grid, GridParams, KdTree,
+    KdTreeRopes, Octree, OctreeDescent, OctreeParams,
 };
 use dynray_geom::TriangleMesh;
 
@@ -25,6 +25,10 @@ pub enum AccelKind {
     Octree,
     /// [`OctreeDescent`]: the same octree, top-down parametric descent (Revelles 2000).
     OctreeDescent,
+    /// [`Apit`]: A-buffers on a cube around the mesh centre with pseudo-interval trees.
+    Apit,
+    /// [`ABuffer`]: the same A-buffers with plain per-pixel lists (seed 004's baseline).
+    ABuffer,
 }
 
 impl AccelKind {
@@ -38,6 +42,8 @@ impl AccelKind {
         AccelKind::Octree,
         AccelKind::OctreeDescent,
         AccelKind::Grid,
+        AccelKind::Apit,
+        AccelKind::ABuffer,
     ];
 
     /// The `--accel` spelling.
@@ -51,6 +57,8 @@ impl AccelKind {
             AccelKind::Bvh => "bvh",
             AccelKind::Octree => "octree",
             AccelKind::OctreeDescent => "octree-descent",
+            AccelKind::Apit => "apit",
+            AccelKind::ABuffer => "abuffer",
         }
     }
 
@@ -65,6 +73,8 @@ impl AccelKind {
             AccelKind::Bvh => Box::new(Bvh::build(mesh, &BvhParams::default())?),
             AccelKind::Octree => Box::new(Octree::build(mesh, &OctreeParams::default())?),
             AccelKind::OctreeDescent => Box::new(OctreeDescent::build(mesh, &OctreeParams::default())?),
+            AccelKind::Apit => Box::new(Apit::build(mesh, &ApitParams::default())?),
+            AccelKind::ABuffer => Box::new(ABuffer::build(mesh, &ApitParams::default())?),
         })
     }
 }
