@@ -1,0 +1,94 @@
+//! Helpers shared by the root package's integration tests: paths, running the binary,
+//! and comparing a film with a golden PNG (the rule of the render crate's golden test).
+#![allow(dead_code)] // each test file uses a different subset
+
+use dynray_render::Film;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// The root package's directory (the checkout).
+pub fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// `examples/` in the checkout.
+pub fn examples_dir() -> PathBuf {
+    root().join("examples")
+}
+
+/// Runs the `dynray` binary with `args` from the checkout's root, so relative paths
+/// such as `examples/whitted.scn` resolve as they do in the README.
+pub fn dynray(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_dynray")).current_dir(root()).args(args).output().expect("run dynray")
+}
+
+/// Fails with the command's stderr when it did not exit successfully.
+#[track_caller]
+pub fn ok(o: Output) -> Output {
+    assert!(o.status.success(), "dynray failed: {}\n{}", o.status, String::from_utf8_lossy(&o.stderr));
+    o
+}
+
+/// True when the goldens are to be rewritten (`DYNRAY_BLESS=1`).
+pub fn blessing() -> bool {
+    std::env::var_os("DYNRAY_BLESS").is_some_and(|v| v == "1")
+}
+
+/// How an 8-bit image differs from another of the same size.
+#[derive(Clone, Copy, Debug)]
+pub struct Diff {
+    /// Mean absolute difference over all channels, in 8-bit levels.
+    pub mean: f64,
+    /// Channels that differ by more than 16 levels.
+    pub large: usize,
+    /// Largest channel difference.
+    pub max: u8,
+    /// Channels compared.
+    pub channels: usize,
+}
+
+impl Diff {
+    /// Compares two equally long channel arrays.
+    pub fn of(got: &[u8], want: &[u8]) -> Diff {
+        assert_eq!(got.len(), want.len(), "images of different sizes");
+        let diffs: Vec<u8> = got.iter().zip(want).map(|(a, b)| a.abs_diff(*b)).collect();
+        let mean = diffs.iter().map(|&d| d as f64).sum::<f64>() / diffs.len().max(1) as f64;
+        let large = diffs.iter().filter(|&&d| d > 16).count();
+        let max = diffs.iter().copied().max().unwrap_or(0);
+        Diff { mean, large, max, channels: diffs.len() }
+    }
+
+    /// The render crate's rule: mean below one level (1/255) and at most 0.2 % of
+    /// channels off by more than 16 levels (a silhouette or shadow-edge pixel may flip
+    /// under another compiler's float code; a real shading change moves far more).
+    pub fn within_tolerance(&self) -> bool {
+        self.mean < 1.0 && self.large * 500 <= self.channels
+    }
+}
+
+/// Compares `film` with the golden PNG `tests/golden/<name>`, or writes it when
+/// [`blessing`]. Returns a description of the failure instead of panicking, so a test
+/// over several scenes can report all of them.
+pub fn check_golden(film: &Film, name: &str) -> Result<(), String> {
+    let path = root().join("tests/golden").join(name);
+    if blessing() {
+        dynray_render::write_image(film, &path).map_err(|e| format!("{}: {e}", path.display()))?;
+        eprintln!("wrote {}", path.display());
+        return Ok(());
+    }
+    let want =
+        image::open(&path).map_err(|e| format!("{}: {e} (regenerate with DYNRAY_BLESS=1)", path.display()))?.to_rgb8();
+    let size = (film.width(), film.height());
+    if want.dimensions() != size {
+        return Err(format!("{}: golden is {:?}, render is {size:?}", path.display(), want.dimensions()));
+    }
+    let d = Diff::of(&film.to_srgb8(), want.as_raw());
+    if d.within_tolerance() {
+        Ok(())
+    } else {
+        Err(format!(
+            "{name} differs from golden: mean {:.3} levels, {} of {} channels off by > 16, max {}",
+            d.mean, d.large, d.channels, d.max
+        ))
+    }
+}
