@@ -43,7 +43,10 @@ pub fn run(a: RenderArgs) -> Result<()> {
     }
 
     let t0 = Instant::now();
-    let accel = a.accel.build(&frame.mesh).with_context(|| format!("{label}: cannot build {}", a.accel))?;
+    let accel = a
+        .accel
+        .build_for_eye(&frame.mesh, frame.camera.position)
+        .with_context(|| format!("{label}: cannot build {}", a.accel))?;
     let build = t0.elapsed();
 
     let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::hidden());

@@ -4,7 +4,7 @@ use crate::{
     ABuffer, Accel, Apit, ApitParams, Bih, BihParams, Brute, BuildError, Bvh, BvhParams, Grid, GridParams, KdTree,
     KdTreeRopes, Octree, OctreeDescent, OctreeParams,
 };
-use dynray_geom::TriangleMesh;
+use dynray_geom::{TriangleMesh, Vec3};
 
 /// Every structure the engine offers, by the name `--accel` accepts.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -75,6 +75,18 @@ impl AccelKind {
             AccelKind::OctreeDescent => Box::new(OctreeDescent::build(mesh, &OctreeParams::default())?),
             AccelKind::Apit => Box::new(Apit::build(mesh, &ApitParams::default())?),
             AccelKind::ABuffer => Box::new(ABuffer::build(mesh, &ApitParams::default())?),
+        })
+    }
+
+    /// Builds the structure for rendering a view from `eye`. The A-PIT and the A-buffer
+    /// centre their cube of A-buffers there, as seed 004 does (primary rays then start at
+    /// the observer); every other structure is view-independent and ignores `eye`.
+    pub fn build_for_eye(self, mesh: &TriangleMesh, eye: Vec3) -> Result<Box<dyn Accel>, BuildError> {
+        let params = ApitParams::default().with_observer(eye);
+        Ok(match self {
+            AccelKind::Apit => Box::new(Apit::build(mesh, &params)?),
+            AccelKind::ABuffer => Box::new(ABuffer::build(mesh, &params)?),
+            _ => self.build(mesh)?,
         })
     }
 }
