@@ -1,0 +1,356 @@
+//! Charts of a run, each written as SVG and (with a font) PNG: build time against
+//! triangle count, Mrays/s per structure and scene, the dynamic preset's per-frame
+//! update times and the seed003 speed-ups.
+
+use crate::output::{write_atomic, write_png};
+use crate::report::{DynamicResult, Report, Seed003Result};
+use anyhow::{anyhow, Result};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use std::path::Path;
+
+/// A chart that can draw itself on any plotters backend.
+pub trait Chart {
+    /// Pixel size of the PNG (and the SVG's nominal size).
+    fn size(&self) -> (u32, u32);
+    /// Draws onto `root` (already filled white).
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String>;
+}
+
+/// `e.to_string()`, for plotters' backend-generic errors.
+pub fn err<E: std::fmt::Display>(e: E) -> String {
+    e.to_string()
+}
+
+/// Writes `chart` as `dir/stem.svg` and, when `png`, `dir/stem.png`; returns the names.
+pub fn save<C: Chart>(chart: &C, dir: &Path, stem: &str, png: bool) -> Result<Vec<String>> {
+    let size = chart.size();
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| anyhow!("{stem}.svg: {e}"))?;
+        chart.draw(&root).map_err(|e| anyhow!("{stem}.svg: {e}"))?;
+        root.present().map_err(|e| anyhow!("{stem}.svg: {e}"))?;
+    }
+    write_atomic(&dir.join(format!("{stem}.svg")), svg.as_bytes())?;
+    let mut names = vec![format!("{stem}.svg")];
+    if png {
+        let mut buf = vec![0u8; size.0 as usize * size.1 as usize * 3];
+        {
+            let root = BitMapBackend::with_buffer(&mut buf, size).into_drawing_area();
+            root.fill(&WHITE).map_err(|e| anyhow!("{stem}.png: {e}"))?;
+            chart.draw(&root).map_err(|e| anyhow!("{stem}.png: {e}"))?;
+            root.present().map_err(|e| anyhow!("{stem}.png: {e}"))?;
+        }
+        write_png(&dir.join(format!("{stem}.png")), &buf, size.0, size.1)?;
+        names.push(format!("{stem}.png"));
+    }
+    Ok(names)
+}
+
+/// Colour of series `i` (plotters' 20-colour palette, distinct and print-safe).
+pub fn series_color(i: usize) -> RGBColor {
+    let c = Palette99::pick(i).to_rgba();
+    RGBColor(c.0, c.1, c.2)
+}
+
+/// Build time (ms) against triangle count, one series per structure, log–log.
+pub struct BuildVsTriangles<'a>(pub &'a Report);
+
+impl Chart for BuildVsTriangles<'_> {
+    fn size(&self) -> (u32, u32) {
+        (900, 600)
+    }
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
+        let scenes = &self.0.scenes;
+        let accels: Vec<String> = self.0.config.accels.clone();
+        let pts = |a: &str| -> Vec<(f64, f64)> {
+            scenes
+                .iter()
+                .filter_map(|s| {
+                    s.structures.iter().find(|r| r.accel == a).map(|r| (s.triangles as f64, r.build_ms.max(1e-3)))
+                })
+                .collect()
+        };
+        let all: Vec<(f64, f64)> = accels.iter().flat_map(|a| pts(a)).collect();
+        let (x0, x1) = bounds(all.iter().map(|p| p.0));
+        let (y0, y1) = bounds(all.iter().map(|p| p.1));
+        let mut chart = ChartBuilder::on(root)
+            .caption("Build time vs triangle count", ("sans-serif", 26))
+            .margin(16)
+            .x_label_area_size(50)
+            .y_label_area_size(80)
+            .build_cartesian_2d((x0 / 1.5..x1 * 1.5).log_scale(), (y0 / 2.0..y1 * 2.0).log_scale())
+            .map_err(err)?;
+        chart
+            .configure_mesh()
+            .x_desc("triangles")
+            .y_desc("build time (ms, median)")
+            .label_style(("sans-serif", 15))
+            .axis_desc_style(("sans-serif", 18))
+            .x_label_formatter(&|v| short(*v))
+            .y_label_formatter(&|v| short(*v))
+            .draw()
+            .map_err(err)?;
+        for (i, a) in accels.iter().enumerate() {
+            let c = series_color(i);
+            let mut p = pts(a);
+            p.sort_by(|a, b| a.0.total_cmp(&b.0));
+            chart
+                .draw_series(LineSeries::new(p.clone(), c.stroke_width(2)))
+                .map_err(err)?
+                .label(a.as_str())
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(3)));
+            chart.draw_series(p.into_iter().map(|q| Circle::new(q, 4, c.filled()))).map_err(err)?;
+        }
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 16))
+            .position(SeriesLabelPosition::UpperLeft)
+            .draw()
+            .map_err(err)?;
+        Ok(())
+    }
+}
+
+/// Mrays/s per structure and scene: one panel per ray kind, grouped bars.
+pub struct MraysChart<'a>(pub &'a Report);
+
+impl Chart for MraysChart<'_> {
+    fn size(&self) -> (u32, u32) {
+        (1200, 900)
+    }
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
+        let r = self.0;
+        let title = format!("Throughput (Mrays/s, {} threads, higher is better)", r.threads);
+        let root = root.titled(&title, ("sans-serif", 26)).map_err(err)?;
+        let kinds = &r.config.rays;
+        let cols = if kinds.len() > 1 { 2 } else { 1 };
+        let rows = kinds.len().div_ceil(cols).max(1);
+        let panels = root.split_evenly((rows, cols));
+        let accels = &r.config.accels;
+        let ns = r.scenes.len().max(1);
+        for (kind, area) in kinds.iter().zip(panels.iter()) {
+            let value = |si: usize, a: &str| -> f64 {
+                r.scenes[si]
+                    .structures
+                    .iter()
+                    .find(|s| s.accel == a)
+                    .and_then(|s| s.kinds.iter().find(|k| &k.kind == kind))
+                    .map(|k| k.mrays_per_s)
+                    .unwrap_or(0.0)
+            };
+            let ymax = (0..r.scenes.len())
+                .flat_map(|si| accels.iter().map(move |a| value(si, a)))
+                .fold(0.0f64, f64::max)
+                .max(1e-6)
+                * 1.15;
+            let mut chart = ChartBuilder::on(area)
+                .caption(format!("{kind} rays"), ("sans-serif", 20))
+                .margin(12)
+                .x_label_area_size(40)
+                .y_label_area_size(70)
+                .build_cartesian_2d(0.0..ns as f64, 0.0..ymax)
+                .map_err(err)?;
+            let names: Vec<String> = r.scenes.iter().map(|s| s.name.clone()).collect();
+            chart
+                .configure_mesh()
+                .disable_x_mesh()
+                .x_labels(ns * 2 + 1)
+                .x_label_formatter(&|x| {
+                    let i = x.floor() as usize;
+                    if (x - x.floor() - 0.5).abs() < 1e-6 && i < names.len() {
+                        names[i].clone()
+                    } else {
+                        String::new()
+                    }
+                })
+                .y_desc("Mrays/s")
+                .label_style(("sans-serif", 14))
+                .axis_desc_style(("sans-serif", 16))
+                .draw()
+                .map_err(err)?;
+            let na = accels.len().max(1) as f64;
+            let w = 0.8 / na;
+            for (ai, a) in accels.iter().enumerate() {
+                let c = series_color(ai);
+                let bars = (0..r.scenes.len()).map(|si| {
+                    let x = si as f64 + 0.1 + ai as f64 * w;
+                    Rectangle::new([(x, 0.0), (x + w * 0.92, value(si, a))], c.filled())
+                });
+                chart
+                    .draw_series(bars)
+                    .map_err(err)?
+                    .label(a.as_str())
+                    .legend(move |(x, y)| Rectangle::new([(x, y - 6), (x + 14, y + 6)], c.filled()));
+            }
+            chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .label_font(("sans-serif", 14))
+                .position(SeriesLabelPosition::UpperRight)
+                .draw()
+                .map_err(err)?;
+        }
+        Ok(())
+    }
+}
+
+/// Dynamic preset: per-frame update and rebuild times, one panel per scene.
+pub struct DynamicChart<'a>(pub &'a DynamicResult);
+
+impl Chart for DynamicChart<'_> {
+    fn size(&self) -> (u32, u32) {
+        (1100, 450 * self.scenes().len().max(1) as u32)
+    }
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
+        let d = self.0;
+        let scenes = self.scenes();
+        let panels = root.split_evenly((scenes.len().max(1), 1));
+        for (scene, area) in scenes.iter().zip(panels.iter()) {
+            let runs: Vec<_> = d.runs.iter().filter(|r| &r.scene == scene).collect();
+            let tri = runs.first().map(|r| r.triangles).unwrap_or(0);
+            let ymax = runs
+                .iter()
+                .flat_map(|r| r.update_ms.iter().chain(&r.rebuild_ms).chain(&r.time_to_image_ms))
+                .fold(0.0f64, |a, b| a.max(*b))
+                .max(1e-3)
+                * 1.1;
+            let mut chart = ChartBuilder::on(area)
+                .caption(format!("{scene} ({tri} triangles, every vertex moves): per-frame times"), ("sans-serif", 20))
+                .margin(14)
+                .x_label_area_size(40)
+                .y_label_area_size(70)
+                .build_cartesian_2d(0.0..d.frames.max(1) as f64, 0.0..ymax)
+                .map_err(err)?;
+            chart
+                .configure_mesh()
+                .x_desc("frame")
+                .y_desc("ms")
+                .label_style(("sans-serif", 14))
+                .axis_desc_style(("sans-serif", 16))
+                .draw()
+                .map_err(err)?;
+            for (i, r) in runs.iter().enumerate() {
+                let c = series_color(i);
+                let series = [
+                    ("update", &r.update_ms, c.stroke_width(3)),
+                    ("rebuild", &r.rebuild_ms, c.stroke_width(1)),
+                    ("update + render", &r.time_to_image_ms, c.mix(0.5).stroke_width(2)),
+                ];
+                for (what, v, style) in series {
+                    let pts: Vec<(f64, f64)> = v.iter().enumerate().map(|(f, t)| (f as f64, *t)).collect();
+                    chart
+                        .draw_series(LineSeries::new(pts, style))
+                        .map_err(err)?
+                        .label(format!("{} {what}", r.accel))
+                        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
+                }
+            }
+            chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .label_font(("sans-serif", 14))
+                .position(SeriesLabelPosition::UpperRight)
+                .draw()
+                .map_err(err)?;
+        }
+        Ok(())
+    }
+}
+
+impl DynamicChart<'_> {
+    fn scenes(&self) -> Vec<String> {
+        let mut s: Vec<String> = Vec::new();
+        for r in &self.0.runs {
+            if !s.contains(&r.scene) {
+                s.push(r.scene.clone());
+            }
+        }
+        s
+    }
+}
+
+/// seed003 preset: speed-up over single-threaded brute force by recursion level.
+pub struct SpeedupChart<'a>(pub &'a Seed003Result);
+
+impl Chart for SpeedupChart<'_> {
+    fn size(&self) -> (u32, u32) {
+        (900, 600)
+    }
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
+        let s = self.0;
+        let ymax = s.scenes.iter().flat_map(|sc| sc.levels.iter().map(|l| l.speedup)).fold(1.0f64, f64::max) * 1.15;
+        let mut chart = ChartBuilder::on(root)
+            .caption(
+                format!(
+                    "Speed-up: {} on {} threads vs brute force on 1 thread ({}x{})",
+                    s.accel, s.threads, s.width, s.height
+                ),
+                ("sans-serif", 20),
+            )
+            .margin(16)
+            .x_label_area_size(50)
+            .y_label_area_size(70)
+            .build_cartesian_2d(0.5..10.5f64, 0.0..ymax)
+            .map_err(err)?;
+        chart
+            .configure_mesh()
+            .x_desc("maximum recursion level (1 = ray casting: primary + shadow rays)")
+            .y_desc("speed-up (times faster)")
+            .label_style(("sans-serif", 14))
+            .axis_desc_style(("sans-serif", 16))
+            .draw()
+            .map_err(err)?;
+        for (i, sc) in s.scenes.iter().enumerate() {
+            let c = series_color(i);
+            let pts: Vec<(f64, f64)> = sc.levels.iter().map(|l| (l.level as f64, l.speedup)).collect();
+            chart
+                .draw_series(LineSeries::new(pts.clone(), c.stroke_width(2)))
+                .map_err(err)?
+                .label(sc.name.as_str())
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(3)));
+            chart.draw_series(pts.into_iter().map(|p| Circle::new(p, 4, c.filled()))).map_err(err)?;
+        }
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 15))
+            .draw()
+            .map_err(err)?;
+        Ok(())
+    }
+}
+
+/// Smallest and largest finite positive value (1, 10 when there is none).
+fn bounds(v: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (lo, hi) = v.filter(|x| x.is_finite() && *x > 0.0).fold((f64::MAX, 0.0f64), |(a, b), x| (a.min(x), b.max(x)));
+    if hi <= 0.0 {
+        (1.0, 10.0)
+    } else {
+        (lo, hi)
+    }
+}
+
+/// `12k`, `1.5M`, `0.3`: short tick labels.
+pub fn short(v: f64) -> String {
+    let a = v.abs();
+    if a >= 1e6 {
+        format!("{}M", trim(v / 1e6))
+    } else if a >= 1e3 {
+        format!("{}k", trim(v / 1e3))
+    } else {
+        trim(v)
+    }
+}
+
+fn trim(v: f64) -> String {
+    let s = format!("{v:.2}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    s.to_string()
+}

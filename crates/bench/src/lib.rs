@@ -1,0 +1,24 @@
+//! The measurement lab behind `dynray bench`: builds every asked structure over every asked
+//! scene, times builds and ray passes, measures traversal work and memory, renders, checks
+//! every structure against brute force in the same run, and writes `report.md`,
+//! `report.json`, charts and heat maps (docs/bench.md describes all of it).
+#![deny(missing_docs)]
+
+pub mod charts;
+pub mod fonts;
+pub mod heatmap;
+pub mod machine;
+pub mod markdown;
+pub mod measure;
+pub mod output;
+pub mod presets;
+pub mod rays;
+pub mod report;
+pub mod run;
+pub mod scenes;
+pub mod variant;
+
+pub use rays::RayKind;
+pub use report::Report;
+pub use run::{run, BenchConfig, Preset};
+pub use variant::{build_variant, parse_accels, AccelVariant};

@@ -1,0 +1,240 @@
+//! `report.md`: the header (version, commit, CPU, threads, date) and one table per scene,
+//! one row per structure, then the presets' tables.
+
+use crate::report::Report;
+use std::fmt::Write;
+
+/// `871,414`.
+pub fn thousands(n: u64) -> String {
+    let s = n.to_string();
+    let mut out = String::new();
+    for (i, c) in s.chars().enumerate() {
+        if i > 0 && (s.len() - i) % 3 == 0 {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
+}
+
+/// `1.5 MiB`.
+pub fn bytes(n: usize) -> String {
+    let n = n as f64;
+    if n >= 1024.0 * 1024.0 {
+        format!("{:.1} MiB", n / 1024.0 / 1024.0)
+    } else if n >= 1024.0 {
+        format!("{:.1} KiB", n / 1024.0)
+    } else {
+        format!("{n} B")
+    }
+}
+
+/// Three significant digits at most, no exponent.
+fn num(v: f64) -> String {
+    if !v.is_finite() {
+        return "—".into();
+    }
+    let a = v.abs();
+    if a >= 100.0 {
+        format!("{v:.0}")
+    } else if a >= 10.0 {
+        format!("{v:.1}")
+    } else if a >= 1.0 {
+        format!("{v:.2}")
+    } else {
+        format!("{v:.3}")
+    }
+}
+
+/// The whole report as Markdown.
+pub fn render(r: &Report, png: bool) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "# dynray bench\n");
+    let _ = writeln!(s, "| | |\n|---|---|");
+    let _ = writeln!(s, "| dynray | {} |", r.dynray_version);
+    let _ = writeln!(s, "| commit | {} |", r.commit.as_deref().unwrap_or("unknown"));
+    let _ = writeln!(s, "| CPU | {} ({} logical cores, {}) |", r.machine.cpu, r.machine.logical_cores, r.machine.os);
+    let _ = writeln!(s, "| threads | {} |", r.threads);
+    let _ = writeln!(s, "| date | {} – {} |", r.started_utc, r.finished_utc);
+    let c = &r.config;
+    let _ = writeln!(s, "| image | {}×{} |", c.width, c.height);
+    let _ = writeln!(s, "| repeat | {} timed after 1 warm-up (medians) |", c.repeat);
+    let verify = c.verify_sample.map(|n| format!("{n} rays per kind")).unwrap_or_else(|| "every ray".into());
+    let _ = writeln!(s, "| checked against brute force | {verify} |");
+    let _ = writeln!(s, "| presets | {} |", c.presets.join(", "));
+    let _ = writeln!(s);
+    if r.mismatches.is_empty() {
+        let _ =
+            writeln!(s, "All checked rays agree with brute force (same triangle, same `t` bits; same `occluded`).\n");
+    } else {
+        let _ = writeln!(s, "**{} disagreement(s) with brute force** (first 20):\n", r.mismatches.len());
+        let _ = writeln!(s, "| scene | structure | kind | ray | expected | got |\n|---|---|---|---|---|---|");
+        for m in r.mismatches.iter().take(20) {
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} | {} | {} | {} |",
+                m.scene, m.accel, m.kind, m.ray_index, m.expected, m.got
+            );
+        }
+        let _ = writeln!(s);
+    }
+    for n in &r.notes {
+        let _ = writeln!(s, "> {n}\n");
+    }
+
+    for sc in &r.scenes {
+        let counts: Vec<String> =
+            sc.ray_counts.iter().map(|k| format!("{} {}", k.kind, thousands(k.rays as u64))).collect();
+        let _ = writeln!(
+            s,
+            "## {} — {} triangles\n\n`{}`; rays: {}\n",
+            sc.name,
+            thousands(sc.triangles as u64),
+            sc.path,
+            counts.join(", ")
+        );
+        let mut head = "| structure | build ms | memory | nodes | leaves | depth | SAH |".to_string();
+        let mut rule = "|---|--:|--:|--:|--:|--:|--:|".to_string();
+        for k in &c.rays {
+            let _ = write!(head, " {k} Mrays/s |");
+            rule.push_str("--:|");
+        }
+        head.push_str(" time to image ms |");
+        rule.push_str("--:|");
+        let _ = writeln!(s, "{head}\n{rule}");
+        for st in &sc.structures {
+            let _ = write!(
+                s,
+                "| {} | {} | {} | {} | {} | {} | {} |",
+                st.accel,
+                num(st.build_ms),
+                bytes(st.memory_bytes),
+                thousands(st.nodes as u64),
+                thousands(st.leaves as u64),
+                st.max_depth,
+                st.sah_cost.map(num).unwrap_or_else(|| "—".into())
+            );
+            for k in &c.rays {
+                let v =
+                    st.kinds.iter().find(|x| &x.kind == k).map(|x| num(x.mrays_per_s)).unwrap_or_else(|| "—".into());
+                let _ = write!(s, " {v} |");
+            }
+            let _ = writeln!(s, " {} |", num(st.time_to_image_ms));
+        }
+        let _ = writeln!(s, "\nWork per ray (counted pass: nodes visited / triangles tested), hits, rays checked:\n");
+        let mut head = "| structure |".to_string();
+        let mut rule = "|---|".to_string();
+        for k in &c.rays {
+            let _ = write!(head, " {k} nodes / tris | {k} hits | {k} checked |");
+            rule.push_str("--:|--:|--:|");
+        }
+        let _ = writeln!(s, "{head}\n{rule}");
+        for st in &sc.structures {
+            let _ = write!(s, "| {} |", st.accel);
+            for k in &c.rays {
+                match st.kinds.iter().find(|x| &x.kind == k) {
+                    Some(x) => {
+                        let _ = write!(
+                            s,
+                            " {} / {} | {} | {} |",
+                            num(x.nodes_per_ray),
+                            num(x.triangles_per_ray),
+                            thousands(x.hits as u64),
+                            thousands(x.verified as u64)
+                        );
+                    }
+                    None => s.push_str(" — | — | — |"),
+                }
+            }
+            let _ = writeln!(s);
+        }
+        if png {
+            let maps: Vec<String> = sc
+                .structures
+                .iter()
+                .filter_map(|st| st.heatmap.as_ref().map(|h| format!("[{}]({h})", st.accel)))
+                .collect();
+            if !maps.is_empty() {
+                let _ = writeln!(s, "\nHeat maps: {}", maps.join(", "));
+            }
+        }
+        let _ = writeln!(s);
+    }
+    if !r.scenes.is_empty() {
+        let ext = if png { "png" } else { "svg" };
+        let _ = writeln!(s, "![build time vs triangles](build-vs-triangles.{ext})\n\n![Mrays/s](mrays.{ext})\n");
+    }
+
+    if let Some(p) = &r.seed003 {
+        let _ = writeln!(
+            s,
+            "## Preset seed003 — brute force on 1 thread vs {} on {} threads, {}×{}\n",
+            p.accel, p.threads, p.width, p.height
+        );
+        if (p.width, p.height) != (640, 480) {
+            let _ = writeln!(s, "Resolution reduced from the seed's 640×480 to {}×{}.\n", p.width, p.height);
+        }
+        let _ = writeln!(
+            s,
+            "Level 1 is ray casting (primary + shadow rays, seed 003 Tables 4.2–4.3); levels 2–10 are Whitted ray \
+             tracing with that maximum recursion level (Table 4.8). Times are renders with the structure prebuilt.\n"
+        );
+        for sc in &p.scenes {
+            let _ = writeln!(
+                s,
+                "### {} — {} triangles, {} light(s)\n\n| level | rays | brute 1 thread ms | {} {} threads ms | speed-up | same image |\n|--:|--:|--:|--:|--:|:-:|",
+                sc.name,
+                thousands(sc.triangles as u64),
+                sc.lights,
+                p.accel,
+                p.threads
+            );
+            for l in &sc.levels {
+                let _ = writeln!(
+                    s,
+                    "| {} | {} | {} | {} | {} | {} |",
+                    l.level,
+                    thousands(l.rays),
+                    num(l.brute_single_ms),
+                    num(l.accel_parallel_ms),
+                    num(l.speedup),
+                    if l.images_identical { "yes" } else { "**no**" }
+                );
+            }
+            let _ = writeln!(s);
+        }
+        let ext = if png { "png" } else { "svg" };
+        let _ = writeln!(s, "![seed003 speed-up](seed003-speedup.{ext})\n");
+    }
+
+    if let Some(d) = &r.dynamic {
+        let _ = writeln!(
+            s,
+            "## Preset dynamic — every vertex moves each frame ({} frames, {}×{})\n\n\
+             Medians over the frames. *update* is the structure's `update` (a refit where it has one); \
+             *rebuild* a full build; time to image = update + Whitted render.\n\n\
+             | scene | triangles | structure | rebuild ms | update ms | primary trace ms | time to image ms | Mrays/s frame 1 → last | checked |\n\
+             |---|--:|---|--:|--:|--:|--:|--:|--:|",
+            d.frames, d.width, d.height
+        );
+        for run in &d.runs {
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} | {} | {} | {} | {} | {} → {} | {} |",
+                run.scene,
+                thousands(run.triangles as u64),
+                run.accel,
+                num(run.median_rebuild_ms),
+                num(run.median_update_ms),
+                num(run.median_trace_ms),
+                num(run.median_time_to_image_ms),
+                num(run.first_frame_mrays_per_s),
+                num(run.last_frame_mrays_per_s),
+                thousands(run.verified as u64)
+            );
+        }
+        let ext = if png { "png" } else { "svg" };
+        let _ = writeln!(s, "\n![dynamic](dynamic.{ext})\n");
+    }
+    s
+}

@@ -1,0 +1,275 @@
+//! Measuring one structure on one scene: build, shape, timed and counted passes per ray
+//! kind, the check against brute force, and the time to image of a Whitted render.
+
+use crate::rays::{RayKind, RaySets};
+use crate::report::{median, KindResult, Mismatch, StructureResult};
+use crate::variant::AccelVariant;
+use anyhow::{Context, Result};
+use dynray_accel::{Accel, TraversalCounts};
+use dynray_geom::{Hit, Ray};
+use dynray_render::{render, RenderOptions};
+use dynray_scene::Frame;
+use rayon::prelude::*;
+use std::hint::black_box;
+use std::time::Instant;
+
+/// Rays per rayon task in the timed passes: large enough that scheduling costs nothing,
+/// small enough to balance incoherent rays over the threads.
+const CHUNK: usize = 1024;
+
+/// Brute force's answers for the sampled rays of one kind.
+pub struct Expected {
+    /// Ray kind.
+    pub kind: RayKind,
+    /// Sampled ray indices.
+    pub indices: Vec<usize>,
+    /// Closest hits (non-shadow kinds) of those rays.
+    pub hits: Vec<Hit>,
+    /// Occlusion answers (shadow kind) of those rays.
+    pub occluded: Vec<bool>,
+}
+
+/// Evenly spaced indices: all of `0..n` when `sample` is `None` or not smaller than `n`.
+pub fn sample_indices(n: usize, sample: Option<usize>) -> Vec<usize> {
+    match sample {
+        Some(s) if s < n => (0..s).map(|i| i * n / s).collect(),
+        _ => (0..n).collect(),
+    }
+}
+
+/// Brute force's answers on a sample of every ray set (computed once per scene).
+pub fn oracle(brute: &dyn Accel, sets: &RaySets, sample: Option<usize>) -> Vec<Expected> {
+    sets.sets
+        .iter()
+        .map(|(kind, rays)| {
+            let indices = sample_indices(rays.len(), sample);
+            let (hits, occluded) = if kind.is_shadow() {
+                (Vec::new(), indices.par_iter().map(|&i| brute.occluded(&rays[i])).collect())
+            } else {
+                (indices.par_iter().map(|&i| brute.intersect(&rays[i])).collect(), Vec::new())
+            };
+            Expected { kind: *kind, indices, hits, occluded }
+        })
+        .collect()
+}
+
+/// Compares `accel` with the oracle's answers; every disagreement becomes a [`Mismatch`].
+pub fn verify(
+    accel: &dyn Accel,
+    label: &str,
+    scene: &str,
+    rays: &[Ray],
+    exp: &Expected,
+    out: &mut Vec<Mismatch>,
+) -> usize {
+    let mk = |i: usize, expected: String, got: String| {
+        let r = rays[i];
+        Mismatch {
+            scene: scene.to_string(),
+            accel: label.to_string(),
+            kind: exp.kind.name().to_string(),
+            ray_index: i,
+            ray: [r.origin.x, r.origin.y, r.origin.z, r.dir.x, r.dir.y, r.dir.z, r.tmin, r.tmax],
+            expected,
+            got,
+        }
+    };
+    let found: Vec<Mismatch> = if exp.kind.is_shadow() {
+        exp.indices
+            .par_iter()
+            .zip(&exp.occluded)
+            .filter_map(|(&i, &want)| {
+                let got = accel.occluded(&rays[i]);
+                (got != want).then(|| mk(i, format!("occluded={want}"), format!("occluded={got}")))
+            })
+            .collect()
+    } else {
+        exp.indices
+            .par_iter()
+            .zip(&exp.hits)
+            .filter_map(|(&i, want)| {
+                let got = accel.intersect(&rays[i]);
+                (!got.same_as(want)).then(|| mk(i, describe(want), describe(&got)))
+            })
+            .collect()
+    };
+    out.extend(found);
+    exp.indices.len()
+}
+
+fn describe(h: &Hit) -> String {
+    if h.is_hit() {
+        format!("prim {} t {:e} (bits {:#010x})", h.prim, h.t, h.t.to_bits())
+    } else {
+        "miss".to_string()
+    }
+}
+
+/// Builds `v` once as a warm-up, then `repeat` more times; returns the last structure and
+/// the timed builds in ms.
+pub fn timed_builds(v: &AccelVariant, frame: &Frame, repeat: usize) -> Result<(Box<dyn Accel>, Vec<f64>)> {
+    let mut accel = v.build(&frame.mesh)?;
+    let mut times = Vec::with_capacity(repeat);
+    for _ in 0..repeat.max(1) {
+        drop(accel);
+        let t = Instant::now();
+        accel = v.build(&frame.mesh)?;
+        times.push(ms(t));
+    }
+    Ok((accel, times))
+}
+
+/// Milliseconds since `t`.
+pub fn ms(t: Instant) -> f64 {
+    t.elapsed().as_secs_f64() * 1e3
+}
+
+/// One timed pass over `rays` on the current rayon pool, ms; returns the hit count too.
+pub fn timed_pass(accel: &dyn Accel, rays: &[Ray], shadow: bool) -> (f64, usize) {
+    let t = Instant::now();
+    let hits: usize = if shadow {
+        rays.par_chunks(CHUNK).map(|c| c.iter().filter(|r| accel.occluded(r)).count()).sum()
+    } else {
+        rays.par_chunks(CHUNK).map(|c| c.iter().filter(|r| accel.intersect(r).is_hit()).count()).sum()
+    };
+    (ms(t), black_box(hits))
+}
+
+/// Per-ray work (nodes + triangles) of a counted closest-hit pass, and the totals.
+pub fn counted_pass(accel: &dyn Accel, rays: &[Ray]) -> (Vec<u32>, TraversalCounts) {
+    let per: Vec<TraversalCounts> = rays
+        .par_iter()
+        .with_min_len(256)
+        .map(|r| {
+            let mut c = TraversalCounts::default();
+            accel.intersect_counted(r, &mut c);
+            c
+        })
+        .collect();
+    let mut total = TraversalCounts::default();
+    for c in &per {
+        total += *c;
+    }
+    let work = per.iter().map(|c| (c.nodes + c.triangles).min(u32::MAX as u64) as u32).collect();
+    (work, total)
+}
+
+/// What [`measure`] needs besides the structure.
+pub struct MeasureInput<'a> {
+    /// Scene name.
+    pub scene: &'a str,
+    /// The frame (mesh, camera, lights).
+    pub frame: &'a Frame,
+    /// The ray sets.
+    pub sets: &'a RaySets,
+    /// Brute force's answers (empty: do not verify, e.g. for brute itself).
+    pub expected: &'a [Expected],
+    /// Timed repetitions.
+    pub repeat: usize,
+    /// Render size.
+    pub width: u32,
+    /// Render height.
+    pub height: u32,
+}
+
+/// Everything about one structure on one scene; per-pixel work of the primary rays is
+/// returned for the heat map (when primary rays were measured).
+pub fn measure(
+    v: &AccelVariant,
+    input: &MeasureInput<'_>,
+    mismatches: &mut Vec<Mismatch>,
+    step: &dyn Fn(&str),
+) -> Result<(StructureResult, Option<Vec<u32>>)> {
+    let label = v.label();
+    step("build");
+    let (accel, build_ms_runs) =
+        timed_builds(v, input.frame, input.repeat).with_context(|| format!("{}: cannot build {label}", input.scene))?;
+    let stats = accel.stats();
+    let mut kinds = Vec::new();
+    let mut heat = None;
+    for (kind, rays) in &input.sets.sets {
+        step(kind.name());
+        let shadow = kind.is_shadow();
+        timed_pass(accel.as_ref(), rays, shadow);
+        let mut runs = Vec::with_capacity(input.repeat);
+        let mut hits = 0;
+        for _ in 0..input.repeat.max(1) {
+            let (t, h) = timed_pass(accel.as_ref(), rays, shadow);
+            runs.push(t);
+            hits = h;
+        }
+        // Shadow rays are counted through the closest-hit traversal: the trait has no
+        // counted any-hit query, so their figures are an upper bound of `occluded`'s work.
+        let (work, total) = counted_pass(accel.as_ref(), rays);
+        let n = rays.len().max(1) as f64;
+        let verified = input
+            .expected
+            .iter()
+            .find(|e| e.kind == *kind)
+            .map(|e| verify(accel.as_ref(), &label, input.scene, rays, e, mismatches))
+            .unwrap_or(0);
+        let trace_ms = median(&runs);
+        kinds.push(KindResult {
+            kind: kind.name().to_string(),
+            rays: rays.len(),
+            trace_ms,
+            trace_ms_runs: runs,
+            mrays_per_s: if trace_ms > 0.0 { rays.len() as f64 / trace_ms / 1e3 } else { 0.0 },
+            nodes_per_ray: total.nodes as f64 / n,
+            triangles_per_ray: total.triangles as f64 / n,
+            hits,
+            verified,
+        });
+        if *kind == RayKind::Primary {
+            heat = Some(work);
+        }
+    }
+    drop(accel);
+
+    step("render");
+    let mut frame = input.frame.clone();
+    frame.settings.width = input.width;
+    frame.settings.height = input.height;
+    let (mut tti, mut rend) = (Vec::new(), Vec::new());
+    let mut render_rays = 0;
+    for _ in 0..input.repeat.max(1) {
+        let t = Instant::now();
+        let accel = v.build(&frame.mesh)?;
+        let t_render = Instant::now();
+        let (film, stats) = render(&frame, accel.as_ref(), &RenderOptions::default());
+        black_box(film);
+        rend.push(ms(t_render));
+        tti.push(ms(t));
+        render_rays = stats.total_rays();
+    }
+    let result = StructureResult {
+        accel: label,
+        build_ms: median(&build_ms_runs),
+        build_ms_runs,
+        memory_bytes: stats.memory_bytes,
+        nodes: stats.nodes,
+        leaves: stats.leaves,
+        max_depth: stats.max_depth,
+        primitive_refs: stats.primitive_refs,
+        sah_cost: stats.sah_cost,
+        extra: stats.extra,
+        kinds,
+        time_to_image_ms: median(&tti),
+        render_ms: median(&rend),
+        render_rays,
+        heatmap: None,
+    };
+    Ok((result, heat))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn samples_are_spread_and_capped() {
+        assert_eq!(sample_indices(5, None), vec![0, 1, 2, 3, 4]);
+        assert_eq!(sample_indices(5, Some(10)), vec![0, 1, 2, 3, 4]);
+        assert_eq!(sample_indices(10, Some(3)), vec![0, 3, 6]);
+    }
+}

@@ -1,0 +1,136 @@
+//! `--preset dynamic`: every vertex of the model moves each frame (a travelling wave plus a
+//! twist about the vertical axis), and each structure is brought up to date twice per
+//! frame: by a full rebuild and by `update` (a refit where the structure has one). Then
+//! primary rays are traced and a Whitted image rendered through the updated structure,
+//! and a sample of the primary rays is checked against brute force on the moved mesh.
+
+use crate::measure::{ms, oracle, timed_pass, verify};
+use crate::rays::{self, RayKind, RaySets};
+use crate::report::{median, DynamicResult, DynamicRun, Mismatch};
+use crate::run::{load_scenes, progress_bar, BenchConfig};
+use crate::variant::AccelVariant;
+use anyhow::{Context, Result};
+use dynray_accel::{Accel, Brute};
+use dynray_geom::{TriangleMesh, Vec3};
+use dynray_render::{render, RenderOptions};
+use std::hint::black_box;
+use std::time::Instant;
+
+/// Primary rays per frame checked against brute force.
+const VERIFY_PER_FRAME: usize = 256;
+
+/// The model at frame `f` of `frames`: `base` twisted about the vertical axis through the
+/// box centre (up to ±0.6 rad at the top and bottom) and rippled by a wave of 4 % of the
+/// box diagonal travelling along y. Deterministic; frame 0 is already moved.
+pub fn deform(base: &TriangleMesh, f: usize, frames: usize) -> Vec<[f32; 3]> {
+    let b = base.bounds();
+    let (c, ext) = (b.center(), b.extent());
+    let h = ext.y.max(1e-6);
+    let amp = ext.length() * 0.04;
+    let phase = std::f32::consts::TAU * (f + 1) as f32 / frames.max(1) as f32;
+    base.positions
+        .iter()
+        .map(|p| {
+            let r = Vec3::from_array(*p) - c;
+            let s = r.y / h; // about -0.5..0.5
+            let a = 0.6 * phase.sin() * 2.0 * s;
+            let (sin, cos) = a.sin_cos();
+            let mut q = Vec3::new(cos * r.x + sin * r.z, r.y, -sin * r.x + cos * r.z);
+            q.x += amp * (std::f32::consts::TAU * 2.0 * s + phase).sin();
+            q.z += amp * 0.5 * (std::f32::consts::TAU * 3.0 * s - phase).cos();
+            (q + c).to_array()
+        })
+        .collect()
+}
+
+/// Runs the preset (default: bunny and dragon-res2; quick: dragon-res4).
+pub fn run(config: &BenchConfig, accels: &[AccelVariant], mismatches: &mut Vec<Mismatch>) -> Result<DynamicResult> {
+    let names: Vec<String> = if !config.scenes.is_empty() {
+        config.scenes.clone()
+    } else if config.quick {
+        vec!["dragon-res4".into()]
+    } else {
+        vec!["bunny".into(), "dragon-res2".into()]
+    };
+    let frames = config.frames.max(1);
+    let scenes = load_scenes(&names, config.scenes_dir.as_deref())?;
+    let bar = progress_bar(config.progress, (scenes.len() * accels.len() * frames) as u64);
+    let mut runs = Vec::new();
+    for sc in &scenes {
+        let base = &sc.frame.mesh;
+        // Camera and rays fixed from the rest pose: the deformation stays near its box.
+        let primary = rays::primary(&sc.frame, config.width, config.height);
+        let sets = RaySets { sets: vec![(RayKind::Primary, primary)] };
+        let rays = &sets.sets[0].1;
+        for v in accels {
+            let label = v.label();
+            let mut accel: Box<dyn Accel> =
+                v.build(base).with_context(|| format!("{}: cannot build {label}", sc.name))?;
+            let mut frame = sc.frame.clone();
+            frame.settings.width = config.width;
+            frame.settings.height = config.height;
+            let mut brute = Brute::build(base).with_context(|| format!("{}: cannot build brute", sc.name))?;
+            let (mut rebuild, mut update, mut trace, mut tti) = (vec![], vec![], vec![], vec![]);
+            let mut verified = 0;
+            for f in 0..frames {
+                bar.set_message(format!("dynamic {} / {label}: frame {}", sc.name, f + 1));
+                frame.mesh.positions = deform(base, f, frames);
+                let t = Instant::now();
+                black_box(v.build(&frame.mesh).with_context(|| format!("{} frame {f}: rebuild {label}", sc.name))?);
+                rebuild.push(ms(t));
+                let t = Instant::now();
+                accel.update(&frame.mesh).with_context(|| format!("{} frame {f}: update {label}", sc.name))?;
+                let up = ms(t);
+                update.push(up);
+                trace.push(timed_pass(accel.as_ref(), rays, false).0);
+                let t = Instant::now();
+                black_box(render(&frame, accel.as_ref(), &RenderOptions::default()));
+                tti.push(up + ms(t));
+                brute.update(&frame.mesh)?;
+                let scene = format!("{} (dynamic frame {f})", sc.name);
+                for e in oracle(&brute, &sets, Some(VERIFY_PER_FRAME)) {
+                    verified += verify(accel.as_ref(), &label, &scene, rays, &e, mismatches);
+                }
+                bar.inc(1);
+            }
+            let mrays = |t: f64| if t > 0.0 { rays.len() as f64 / t / 1e3 } else { 0.0 };
+            runs.push(DynamicRun {
+                scene: sc.name.clone(),
+                triangles: base.triangle_count(),
+                accel: label,
+                median_rebuild_ms: median(&rebuild),
+                median_update_ms: median(&update),
+                median_trace_ms: median(&trace),
+                median_time_to_image_ms: median(&tti),
+                first_frame_mrays_per_s: mrays(trace[0]),
+                last_frame_mrays_per_s: mrays(trace[trace.len() - 1]),
+                rebuild_ms: rebuild,
+                update_ms: update,
+                trace_ms: trace,
+                time_to_image_ms: tti,
+                verified,
+            });
+        }
+    }
+    bar.finish_and_clear();
+    Ok(DynamicResult { frames, width: config.width, height: config.height, runs })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn deformation_moves_every_vertex_and_is_deterministic() {
+        let mesh = TriangleMesh::new(
+            vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0, 1.0]],
+            vec![[0, 1, 2], [1, 3, 2]],
+        );
+        let a = deform(&mesh, 3, 10);
+        assert_eq!(a, deform(&mesh, 3, 10));
+        for (p, q) in mesh.positions.iter().zip(&a) {
+            assert_ne!(p, q);
+            assert!(q.iter().all(|x| x.is_finite()));
+        }
+    }
+}

@@ -1,0 +1,278 @@
+//! Everything a bench run measured, as written to `report.json` (schema in docs/bench.md).
+
+use serde::Serialize;
+
+/// Version of the JSON layout; bumped when a field changes meaning or disappears.
+pub const SCHEMA_VERSION: u32 = 1;
+
+/// A whole run.
+#[derive(Clone, Debug, Serialize)]
+pub struct Report {
+    /// [`SCHEMA_VERSION`].
+    pub schema: u32,
+    /// `dynray` version.
+    pub dynray_version: String,
+    /// Git commit of the source, if known.
+    pub commit: Option<String>,
+    /// Where it ran.
+    pub machine: Machine,
+    /// Worker threads of the parallel passes.
+    pub threads: usize,
+    /// Start, ISO 8601 UTC.
+    pub started_utc: String,
+    /// End, ISO 8601 UTC.
+    pub finished_utc: String,
+    /// The settings of the run.
+    pub config: ConfigEcho,
+    /// Standard measurements: one entry per scene (empty when only presets ran).
+    pub scenes: Vec<SceneResult>,
+    /// `--preset seed003` results.
+    pub seed003: Option<Seed003Result>,
+    /// `--preset dynamic` results.
+    pub dynamic: Option<DynamicResult>,
+    /// Every disagreement with brute force (the run fails when this is not empty).
+    pub mismatches: Vec<Mismatch>,
+    /// Remarks a reader needs (reduced resolution, skipped parts).
+    pub notes: Vec<String>,
+}
+
+/// The machine.
+#[derive(Clone, Debug, Serialize)]
+pub struct Machine {
+    /// CPU model from /proc/cpuinfo (or "unknown").
+    pub cpu: String,
+    /// Logical cores the OS reports.
+    pub logical_cores: usize,
+    /// `std::env::consts::OS` / `ARCH`.
+    pub os: String,
+}
+
+/// The run's settings, as used.
+#[derive(Clone, Debug, Serialize)]
+pub struct ConfigEcho {
+    /// Image width of the ray sets and renders.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Timed repetitions (medians are reported), after one warm-up.
+    pub repeat: usize,
+    /// Ray kinds measured.
+    pub rays: Vec<String>,
+    /// Structures measured, as `--accels` spells them.
+    pub accels: Vec<String>,
+    /// Rays per kind checked against brute force (`null`: all).
+    pub verify_sample: Option<usize>,
+    /// `--quick`.
+    pub quick: bool,
+    /// The preset(s) run.
+    pub presets: Vec<String>,
+}
+
+/// One scene of the standard measurements.
+#[derive(Clone, Debug, Serialize)]
+pub struct SceneResult {
+    /// Scene name.
+    pub name: String,
+    /// File read.
+    pub path: String,
+    /// Triangles.
+    pub triangles: usize,
+    /// Vertices.
+    pub vertices: usize,
+    /// Rays per kind.
+    pub ray_counts: Vec<KindCount>,
+    /// One entry per structure.
+    pub structures: Vec<StructureResult>,
+}
+
+/// How many rays of a kind a scene has.
+#[derive(Clone, Debug, Serialize)]
+pub struct KindCount {
+    /// Ray kind.
+    pub kind: String,
+    /// Rays.
+    pub rays: usize,
+}
+
+/// One structure on one scene.
+#[derive(Clone, Debug, Serialize)]
+pub struct StructureResult {
+    /// `--accels` spelling (with parameters).
+    pub accel: String,
+    /// Median build time, ms.
+    pub build_ms: f64,
+    /// Every timed build, ms.
+    pub build_ms_runs: Vec<f64>,
+    /// Bytes owned by the structure.
+    pub memory_bytes: usize,
+    /// Nodes (or cells).
+    pub nodes: usize,
+    /// Leaves (or non-empty cells).
+    pub leaves: usize,
+    /// Deepest leaf.
+    pub max_depth: u32,
+    /// Triangle references in leaves.
+    pub primitive_refs: usize,
+    /// SAH cost, where the structure defines one.
+    pub sah_cost: Option<f64>,
+    /// Structure-specific figures.
+    pub extra: Vec<(String, String)>,
+    /// Per ray kind.
+    pub kinds: Vec<KindResult>,
+    /// Whitted render of the frame at the bench size: build + render, median, ms.
+    pub time_to_image_ms: f64,
+    /// The render part alone, median, ms.
+    pub render_ms: f64,
+    /// Rays the render traced (primary + shadow + secondary).
+    pub render_rays: u64,
+    /// Heat map file, relative to the output folder.
+    pub heatmap: Option<String>,
+}
+
+/// One ray kind through one structure.
+#[derive(Clone, Debug, Serialize)]
+pub struct KindResult {
+    /// Ray kind.
+    pub kind: String,
+    /// Rays traced.
+    pub rays: usize,
+    /// Median time of the timed pass, ms.
+    pub trace_ms: f64,
+    /// Every timed pass, ms.
+    pub trace_ms_runs: Vec<f64>,
+    /// Million rays per second (rays / median time).
+    pub mrays_per_s: f64,
+    /// Mean nodes visited per ray (counted pass, closest-hit traversal).
+    pub nodes_per_ray: f64,
+    /// Mean triangles tested per ray (counted pass).
+    pub triangles_per_ray: f64,
+    /// Rays that hit (closest hit) or were occluded (shadow).
+    pub hits: usize,
+    /// Rays compared with brute force.
+    pub verified: usize,
+}
+
+/// A disagreement with brute force.
+#[derive(Clone, Debug, Serialize)]
+pub struct Mismatch {
+    /// Where: scene (and frame for the dynamic preset).
+    pub scene: String,
+    /// Structure.
+    pub accel: String,
+    /// Ray kind.
+    pub kind: String,
+    /// Index of the ray in its set.
+    pub ray_index: usize,
+    /// Origin, direction, tmin, tmax.
+    pub ray: [f32; 8],
+    /// Brute force's answer (`prim t` or `occluded`).
+    pub expected: String,
+    /// The structure's answer.
+    pub got: String,
+}
+
+/// `--preset seed003`: single-threaded brute force against the parallel accelerated tracer.
+#[derive(Clone, Debug, Serialize)]
+pub struct Seed003Result {
+    /// Image width used (the seed used 640).
+    pub width: u32,
+    /// Image height used (the seed used 480).
+    pub height: u32,
+    /// The accelerated structure.
+    pub accel: String,
+    /// Threads of the accelerated tracer.
+    pub threads: usize,
+    /// One entry per scene.
+    pub scenes: Vec<Seed003Scene>,
+}
+
+/// One scene of the seed003 preset.
+#[derive(Clone, Debug, Serialize)]
+pub struct Seed003Scene {
+    /// Scene name.
+    pub name: String,
+    /// Triangles.
+    pub triangles: usize,
+    /// Lights.
+    pub lights: usize,
+    /// Rows by recursion level 1..=10 (level 1 = ray casting: primary + shadow rays).
+    pub levels: Vec<Seed003Level>,
+}
+
+/// One recursion level of the seed003 preset.
+#[derive(Clone, Debug, Serialize)]
+pub struct Seed003Level {
+    /// Maximum ray level (1 = primary + shadow rays only).
+    pub level: u32,
+    /// Rays traced.
+    pub rays: u64,
+    /// Single-threaded brute force, ms.
+    pub brute_single_ms: f64,
+    /// Parallel tracer with the accelerated structure (render only, structure prebuilt), ms.
+    pub accel_parallel_ms: f64,
+    /// `brute_single_ms / accel_parallel_ms`.
+    pub speedup: f64,
+    /// True when both images are identical pixel for pixel (they must be).
+    pub images_identical: bool,
+}
+
+/// `--preset dynamic`: every vertex moves each frame.
+#[derive(Clone, Debug, Serialize)]
+pub struct DynamicResult {
+    /// Frames per scene.
+    pub frames: usize,
+    /// Image width of the primary rays and renders.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// One entry per scene × structure.
+    pub runs: Vec<DynamicRun>,
+}
+
+/// One structure animated over one scene.
+#[derive(Clone, Debug, Serialize)]
+pub struct DynamicRun {
+    /// Scene name.
+    pub scene: String,
+    /// Triangles.
+    pub triangles: usize,
+    /// Structure.
+    pub accel: String,
+    /// Per frame: full rebuild, ms.
+    pub rebuild_ms: Vec<f64>,
+    /// Per frame: `update` (refit where the structure has one), ms.
+    pub update_ms: Vec<f64>,
+    /// Per frame: primary rays through the updated structure, ms.
+    pub trace_ms: Vec<f64>,
+    /// Per frame: update + Whitted render, ms.
+    pub time_to_image_ms: Vec<f64>,
+    /// Medians of the four series.
+    pub median_rebuild_ms: f64,
+    /// Median update time.
+    pub median_update_ms: f64,
+    /// Median trace time.
+    pub median_trace_ms: f64,
+    /// Median time to image.
+    pub median_time_to_image_ms: f64,
+    /// Primary-ray Mrays/s in the last frame after updates (refit quality decay shows here).
+    pub last_frame_mrays_per_s: f64,
+    /// Primary-ray Mrays/s in the first frame.
+    pub first_frame_mrays_per_s: f64,
+    /// Rays checked against brute force over all frames.
+    pub verified: usize,
+}
+
+/// Median of a non-empty series (mean of the middle two for even lengths); 0 when empty.
+pub fn median(v: &[f64]) -> f64 {
+    if v.is_empty() {
+        return 0.0;
+    }
+    let mut s = v.to_vec();
+    s.sort_by(|a, b| a.total_cmp(b));
+    let n = s.len();
+    if n % 2 == 1 {
+        s[n / 2]
+    } else {
+        0.5 * (s[n / 2 - 1] + s[n / 2])
+    }
+}

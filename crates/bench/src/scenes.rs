@@ -1,0 +1,101 @@
+//! Bench scenes: the named test models of `shared/scenes`, or any mesh/scene file, loaded
+//! into a [`Frame`] with a camera that frames them and at least one light.
+
+use anyhow::{bail, Context, Result};
+use dynray_scene::Frame;
+use std::path::{Path, PathBuf};
+
+/// The models the bench knows by name, and their files under the scenes folder.
+pub const KNOWN_SCENES: &[(&str, &str)] = &[
+    ("bunny", "bunny/bun_zipper.ply"),
+    ("dragon", "dragon/dragon_vrip.ply.gz"),
+    ("dragon-res2", "dragon/dragon_vrip_res2.ply.gz"),
+    ("dragon-res3", "dragon/dragon_vrip_res3.ply.gz"),
+    ("dragon-res4", "dragon/dragon_vrip_res4.ply.gz"),
+    ("cornell-box", "cornell-box/mcguire-obj/CornellBox-Original.obj"),
+    ("duck", "Duck/glTF-Binary/Duck.glb"),
+    ("cesium-man", "CesiumMan/glTF-Binary/CesiumMan.glb"),
+];
+
+/// A loaded bench scene.
+pub struct BenchScene {
+    /// Name as given (`bunny`) or the file's name.
+    pub name: String,
+    /// The file it was read from.
+    pub path: PathBuf,
+    /// The flattened frame at t = 0 (camera resolved, lights present).
+    pub frame: Frame,
+}
+
+/// Where the named models live: `explicit` if given, else `$DYNRAY_SCENES`, else
+/// `../shared/scenes` from the current directory, else `../shared/scenes` beside the
+/// checkout the running executable was built in (found by walking up from it).
+pub fn scenes_dir(explicit: Option<&Path>) -> Option<PathBuf> {
+    if let Some(d) = explicit {
+        return Some(d.to_path_buf());
+    }
+    if let Some(d) = std::env::var_os("DYNRAY_SCENES") {
+        return Some(PathBuf::from(d));
+    }
+    let cwd = PathBuf::from("../shared/scenes");
+    if cwd.is_dir() {
+        return Some(cwd);
+    }
+    let exe = std::env::current_exe().ok()?;
+    exe.ancestors().skip(1).filter_map(|a| a.parent()).map(|p| p.join("shared/scenes")).find(|d| d.is_dir())
+}
+
+fn known_names() -> String {
+    KNOWN_SCENES.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(", ")
+}
+
+/// Resolves one `--scenes` entry to a file: an existing path, or a known model name.
+pub fn resolve(entry: &str, dir: Option<&Path>) -> Result<(String, PathBuf)> {
+    let p = Path::new(entry);
+    if p.is_file() {
+        let name = p.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| entry.to_string());
+        return Ok((name, p.to_path_buf()));
+    }
+    let Some(rel) = KNOWN_SCENES.iter().find(|(n, _)| *n == entry).map(|(_, f)| f) else {
+        if dynray_scene::FileFormat::of(p).is_some() {
+            bail!("{entry}: no such file");
+        }
+        bail!("unknown scene `{entry}`: not a file, and not one of the known models ({})", known_names());
+    };
+    let Some(dir) = dir else {
+        bail!(
+            "scene `{entry}` needs the test models folder: none found (give --scenes-dir DIR or set DYNRAY_SCENES; \
+             looked for ../shared/scenes from here and beside the executable's checkout)"
+        );
+    };
+    let path = dir.join(rel);
+    if !path.is_file() {
+        bail!("scene `{entry}`: {} does not exist (scenes folder {})", path.display(), dir.display());
+    }
+    Ok((entry.to_string(), path))
+}
+
+/// Loads a resolved scene; the frame gets the scene's camera or one framing its box,
+/// and a default light when the file has none (shadow rays need one).
+pub fn load(name: &str, path: &Path) -> Result<BenchScene> {
+    let mut scene = dynray_scene::load_file(path).with_context(|| format!("scene `{name}`"))?;
+    if scene.triangle_count() == 0 {
+        bail!("scene `{name}` ({}) has no triangles", path.display());
+    }
+    scene.add_default_light();
+    let frame = scene.frame(0.0);
+    Ok(BenchScene { name: name.to_string(), path: path.to_path_buf(), frame })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn unknown_names_list_the_known_ones() {
+        let e = resolve("teapot", None).unwrap_err().to_string();
+        assert!(e.contains("teapot") && e.contains("dragon-res4") && e.contains("cesium-man"), "{e}");
+        let e = resolve("missing.ply", None).unwrap_err().to_string();
+        assert!(e.contains("no such file"), "{e}");
+    }
+}
