@@ -24,6 +24,9 @@ pub enum Command {
     TraceRays(TraceRaysArgs),
     /// Print a file's counts and bounding box and an acceleration structure's figures.
     Info(InfoArgs),
+    /// Measure acceleration structures on test models: build, memory, Mrays/s, work per
+    /// ray, time to image, heat maps; every structure checked against brute force.
+    Bench(BenchArgs),
 }
 
 /// `dynray render`.
@@ -78,6 +81,53 @@ pub struct InfoArgs {
     /// Structure to build and describe.
     #[arg(long, default_value = "bvh", value_parser = parse_accel)]
     pub accel: AccelKind,
+}
+
+/// `dynray bench` (docs/bench.md). Threads come from the global `--threads`.
+#[derive(Args, Debug)]
+pub struct BenchArgs {
+    /// Comma-separated scene names (bunny, dragon, dragon-res2..4, cornell-box, duck,
+    /// cesium-man) or mesh/scene files.
+    #[arg(long, value_name = "LIST")]
+    pub scenes: Option<String>,
+    /// Comma-separated structures, each optionally with parameters:
+    /// `bvh,bih:max_prims=5,shrink=off` (default: every registered structure but brute).
+    #[arg(long, value_name = "LIST")]
+    pub accels: Option<String>,
+    /// Ray kinds: any of primary, shadow, diffuse, random (default: all four).
+    #[arg(long, value_name = "LIST")]
+    pub rays: Option<String>,
+    /// Image width of the ray sets and renders (default 640; --quick 128).
+    #[arg(long)]
+    pub width: Option<u32>,
+    /// Image height (default 480; --quick 96).
+    #[arg(long)]
+    pub height: Option<u32>,
+    /// Timed repetitions after one warm-up; medians are reported (default 5; --quick 1).
+    #[arg(long)]
+    pub repeat: Option<usize>,
+    /// standard (default), seed003, dynamic, or all.
+    #[arg(long, value_name = "NAME")]
+    pub preset: Option<String>,
+    /// Output folder.
+    #[arg(long, default_value = "results")]
+    pub out: PathBuf,
+    /// Small models and images, one repetition, every ray checked: well under a minute.
+    #[arg(long)]
+    pub quick: bool,
+    /// Folder of the named models (default: $DYNRAY_SCENES, ../shared/scenes, or
+    /// shared/scenes beside the executable's checkout).
+    #[arg(long, value_name = "DIR")]
+    pub scenes_dir: Option<PathBuf>,
+    /// Rays per kind checked against brute force, or `all` (default 2000; --quick all).
+    #[arg(long, value_name = "N|all")]
+    pub verify: Option<String>,
+    /// Frames of the dynamic preset (default 60; --quick 4).
+    #[arg(long)]
+    pub frames: Option<usize>,
+    /// Write charts as SVG only and no heat maps (no font needed).
+    #[arg(long)]
+    pub no_png: bool,
 }
 
 fn parse_accel(s: &str) -> Result<AccelKind, String> {

@@ -1,5 +1,6 @@
 //! One module per subcommand; `run` applies the global options and dispatches.
 
+mod bench;
 mod info;
 mod render;
 mod trace_rays;
@@ -19,6 +20,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Render(a) => render::run(a),
         Command::TraceRays(a) => trace_rays::run(a),
         Command::Info(a) => info::run(a),
+        Command::Bench(a) => bench::run(a),
     }
 }
 

@@ -1,0 +1,90 @@
+//! `dynray bench`: raw options -> a validated [`BenchConfig`] -> the bench library; exits
+//! non-zero (after writing the report) when any structure disagrees with brute force.
+
+use crate::cli::BenchArgs;
+use anyhow::{bail, Result};
+use dynray_bench::{parse_accels, run::mismatch_summary, BenchConfig, Preset, RayKind};
+
+/// Largest image edge accepted.
+const MAX_EDGE: u32 = 1 << 14;
+
+pub fn run(a: BenchArgs) -> Result<()> {
+    let config = config(a)?;
+    let report = dynray_bench::run(&config)?;
+    eprintln!(
+        "dynray bench: {} scene(s) x {} structure(s) on {} threads -> {}",
+        report.scenes.len().max(report.seed003.as_ref().map_or(0, |s| s.scenes.len())),
+        report.config.accels.len(),
+        report.threads,
+        config.out.join("report.md").display()
+    );
+    if let Some(m) = mismatch_summary(&report.mismatches) {
+        bail!("{m} (report written to {})", config.out.display());
+    }
+    Ok(())
+}
+
+fn list(s: &str) -> Vec<String> {
+    s.split(',').map(str::trim).filter(|x| !x.is_empty()).map(String::from).collect()
+}
+
+fn config(a: BenchArgs) -> Result<BenchConfig> {
+    let mut c = BenchConfig::new(a.quick);
+    if let Some(s) = &a.scenes {
+        c.scenes = list(s);
+        if c.scenes.is_empty() {
+            bail!("--scenes: no scene named");
+        }
+    }
+    if let Some(s) = &a.accels {
+        c.accels = parse_accels(s)?;
+    }
+    if let Some(s) = &a.rays {
+        c.rays = list(s).iter().map(|k| k.parse::<RayKind>()).collect::<Result<_, _>>().map_err(anyhow::Error::msg)?;
+        if c.rays.is_empty() {
+            bail!("--rays: no ray kind named");
+        }
+        c.rays.dedup();
+    }
+    if let Some(w) = a.width {
+        c.width = w;
+        c.size_given = true;
+    }
+    if let Some(h) = a.height {
+        c.height = h;
+        c.size_given = true;
+    }
+    for (flag, v) in [("--width", c.width), ("--height", c.height)] {
+        if v == 0 || v > MAX_EDGE {
+            bail!("{flag} must be between 1 and {MAX_EDGE}, got {v}");
+        }
+    }
+    if let Some(r) = a.repeat {
+        if r == 0 {
+            bail!("--repeat must be at least 1");
+        }
+        c.repeat = r;
+    }
+    if let Some(p) = &a.preset {
+        c.presets = Preset::parse(p)?;
+    }
+    if let Some(f) = a.frames {
+        if f == 0 {
+            bail!("--frames must be at least 1");
+        }
+        c.frames = f;
+    }
+    if let Some(v) = &a.verify {
+        c.verify_sample = match v.as_str() {
+            "all" => None,
+            n => match n.parse::<usize>() {
+                Ok(n) if n > 0 => Some(n),
+                _ => bail!("--verify must be a positive count or `all`, got `{v}`"),
+            },
+        };
+    }
+    c.out = a.out;
+    c.scenes_dir = a.scenes_dir;
+    c.png = !a.no_png;
+    Ok(c)
+}
