@@ -13,7 +13,7 @@ use std::path::Path;
 /// stay readable.
 const MIN_MAP_WIDTH: u32 = 640;
 /// Width of the colour-bar panel.
-const BAR_PANEL: u32 = 170;
+const BAR_PANEL: u32 = 150;
 /// Height of the title band.
 const TITLE: u32 = 70;
 
@@ -88,7 +88,7 @@ fn draw<DB: DrawingBackend>(
         .margin_top(6)
         .margin_bottom(6)
         .y_label_area_size(0)
-        .right_y_label_area_size(60)
+        .right_y_label_area_size(70)
         .build_cartesian_2d(0.0..1.0f64, 0.0..top as f64)
         .map_err(err)?;
     chart
@@ -96,6 +96,7 @@ fn draw<DB: DrawingBackend>(
         .disable_mesh()
         .disable_x_axis()
         .y_desc(label)
+        .y_label_formatter(&|v| format!("{v:.0}"))
         .label_style(("sans-serif", 14))
         .axis_desc_style(("sans-serif", 14))
         .draw()
@@ -104,7 +105,7 @@ fn draw<DB: DrawingBackend>(
     chart
         .draw_series((0..steps).map(|i| {
             let (a, b) = (i as f64 / steps as f64, (i + 1) as f64 / steps as f64);
-            Rectangle::new([(0.0, a * top as f64), (0.35, b * top as f64)], ViridisRGB::get_color(a).filled())
+            Rectangle::new([(0.0, a * top as f64), (1.0, b * top as f64)], ViridisRGB::get_color(a).filled())
         }))
         .map_err(err)?;
     Ok(())
