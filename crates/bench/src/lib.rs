@@ -11,6 +11,7 @@ pub mod machine;
 pub mod markdown;
 pub mod measure;
 pub mod output;
+pub mod params;
 pub mod presets;
 pub mod rays;
 pub mod report;

@@ -108,12 +108,12 @@ fn describe(h: &Hit) -> String {
 /// Builds `v` once as a warm-up, then `repeat` more times; returns the last structure and
 /// the timed builds in ms.
 pub fn timed_builds(v: &AccelVariant, frame: &Frame, repeat: usize) -> Result<(Box<dyn Accel>, Vec<f64>)> {
-    let mut accel = v.build(&frame.mesh)?;
+    let mut accel = v.build_in(frame)?;
     let mut times = Vec::with_capacity(repeat);
     for _ in 0..repeat.max(1) {
         drop(accel);
         let t = Instant::now();
-        accel = v.build(&frame.mesh)?;
+        accel = v.build_in(frame)?;
         times.push(ms(t));
     }
     Ok((accel, times))
@@ -234,7 +234,7 @@ pub fn measure(
     let mut render_rays = 0;
     for _ in 0..input.repeat.max(1) {
         let t = Instant::now();
-        let accel = v.build(&frame.mesh)?;
+        let accel = v.build_in(&frame)?;
         let t_render = Instant::now();
         let (film, stats) = render(&frame, accel.as_ref(), &RenderOptions::default());
         black_box(film);

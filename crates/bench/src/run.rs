@@ -213,7 +213,7 @@ fn standard(config: &BenchConfig, accels: &[AccelVariant], report: &mut Report) 
     for sc in &loaded {
         bar.set_message(format!("{}: rays and brute-force answers", sc.name));
         let reference = accels[0]
-            .build(&sc.frame.mesh)
+            .build_in(&sc.frame)
             .with_context(|| format!("{}: cannot build {}", sc.name, accels[0].label()))?;
         let sets = rays::generate(&sc.frame, config.width, config.height, &config.rays, reference.as_ref());
         drop(reference);

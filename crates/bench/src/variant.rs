@@ -4,12 +4,14 @@
 //! Grammar of `--accels`: a comma-separated list; a piece without `=` starts a new
 //! structure (optionally `name:key=value`), a piece with `=` adds a parameter to the
 //! structure before it. So `bvh,bih:max_prims=5,shrink=off,grid` is three structures, the
-//! second with two parameters. Keys are checked by [`build_variant`], which rejects any key
+//! second with two parameters. Keys are checked by [`crate::params`] as the list is parsed, which rejects any key
 //! the structure does not know, naming the keys it does.
 
+use crate::params::{build_with_params, check_params};
 use anyhow::{bail, Result};
 use dynray_accel::{Accel, AccelKind};
 use dynray_geom::TriangleMesh;
+use dynray_scene::Frame;
 
 /// One structure to measure: a kind and its non-default parameters.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -38,6 +40,13 @@ impl AccelVariant {
     /// Builds the structure over `mesh` (see [`build_variant`]).
     pub fn build(&self, mesh: &TriangleMesh) -> Result<Box<dyn Accel>> {
         build_variant(self.kind, &self.params, mesh)
+    }
+
+    /// Builds the structure over `frame`'s mesh for views from its camera: the A-PIT and
+    /// the A-buffer centre their cube on the eye (seed 004's observer) unless the variant
+    /// says `observer=center`; the other structures ignore the camera.
+    pub fn build_in(&self, frame: &Frame) -> Result<Box<dyn Accel>> {
+        build_with_params(self.kind, &self.params, &frame.mesh, Some(frame.camera.position))
     }
 }
 
@@ -74,29 +83,18 @@ pub fn parse_accels(list: &str) -> Result<Vec<AccelVariant>> {
     if out.is_empty() {
         bail!("--accels: no structure named in `{list}`");
     }
+    for v in &out {
+        check_params(v.kind, &v.params).map_err(|e| anyhow::anyhow!("--accels: {e}"))?;
+    }
     Ok(out)
 }
 
-/// The registry hook: builds `kind` over `mesh` with `params` applied on top of its
-/// defaults, rejecting unknown keys and bad values with a message that names them.
-///
-/// Each structure plugs its parameters in here with one match arm that maps keys onto its
-/// params struct (see docs/bench.md, "Structure parameters"). Only `brute` is wired in this
-/// tree, and it has no parameters; any other structure accepts only its defaults until its
-/// arm is added.
+/// Builds `kind` over `mesh` with `params` applied on top of its defaults, rejecting
+/// unknown keys and bad values with a message that names them (see [`crate::params`]).
+/// The A-PIT and the A-buffer are centred on the mesh's box here; [`AccelVariant::build_in`]
+/// centres them on the camera.
 pub fn build_variant(kind: AccelKind, params: &[(String, String)], mesh: &TriangleMesh) -> Result<Box<dyn Accel>> {
-    // Matching on the name keeps this compiling unchanged as structures are registered.
-    let known: &[&str] = match kind.name() {
-        "brute" => &[],
-        _ => &[],
-    };
-    if let Some((k, _)) = params.iter().find(|(k, _)| !known.contains(&k.as_str())) {
-        if known.is_empty() {
-            bail!("{kind}: unknown parameter `{k}` ({kind} takes no parameters in this build)");
-        }
-        bail!("{kind}: unknown parameter `{k}` (known: {})", known.join(", "));
-    }
-    Ok(kind.build(mesh)?)
+    build_with_params(kind, params, mesh, None)
 }
 
 #[cfg(test)]
@@ -105,11 +103,11 @@ mod tests {
 
     #[test]
     fn lists_split_into_structures_and_parameters() {
-        let v = parse_accels("brute:a=1,b=2,brute").unwrap();
+        let v = parse_accels("bih:max_prims=5,shrink=off,bvh").unwrap();
         assert_eq!(v.len(), 2);
-        assert_eq!(v[0].params, vec![("a".into(), "1".into()), ("b".into(), "2".into())]);
-        assert_eq!(v[0].label(), "brute:a=1,b=2");
-        assert_eq!(v[1].label(), "brute");
+        assert_eq!(v[0].params, vec![("max_prims".into(), "5".into()), ("shrink".into(), "off".into())]);
+        assert_eq!(v[0].label(), "bih:max_prims=5,shrink=off");
+        assert_eq!(v[1].label(), "bvh");
     }
 
     #[test]
@@ -117,7 +115,8 @@ mod tests {
         for (list, needle) in [
             ("nope", "nope"),
             ("x=1", "before any structure"),
-            ("brute:a=1,a=2", "twice"),
+            ("bih:max_prims=1,max_prims=2", "twice"),
+            ("bih:leaf=3", "unknown parameter `leaf`"),
             ("brute:oops", "key=value"),
             ("", "no structure"),
         ] {

@@ -65,7 +65,7 @@ pub fn run(config: &BenchConfig, accels: &[AccelVariant], mismatches: &mut Vec<M
         for v in accels {
             let label = v.label();
             let mut accel: Box<dyn Accel> =
-                v.build(base).with_context(|| format!("{}: cannot build {label}", sc.name))?;
+                v.build_in(&sc.frame).with_context(|| format!("{}: cannot build {label}", sc.name))?;
             let mut frame = sc.frame.clone();
             frame.settings.width = config.width;
             frame.settings.height = config.height;
@@ -76,7 +76,7 @@ pub fn run(config: &BenchConfig, accels: &[AccelVariant], mismatches: &mut Vec<M
                 bar.set_message(format!("dynamic {} / {label}: frame {}", sc.name, f + 1));
                 frame.mesh.positions = deform(base, f, frames);
                 let t = Instant::now();
-                black_box(v.build(&frame.mesh).with_context(|| format!("{} frame {f}: rebuild {label}", sc.name))?);
+                black_box(v.build_in(&frame).with_context(|| format!("{} frame {f}: rebuild {label}", sc.name))?);
                 rebuild.push(ms(t));
                 let t = Instant::now();
                 accel.update(&frame.mesh).with_context(|| format!("{} frame {f}: update {label}", sc.name))?;

@@ -59,7 +59,7 @@ pub fn run(
         frame.settings.height = height;
         let brute = Brute::build(&frame.mesh).with_context(|| format!("{}: cannot build brute", sc.name))?;
         let accel =
-            accel_v.build(&frame.mesh).with_context(|| format!("{}: cannot build {}", sc.name, accel_v.label()))?;
+            accel_v.build_in(&frame).with_context(|| format!("{}: cannot build {}", sc.name, accel_v.label()))?;
         let mut levels = Vec::new();
         for level in 1..=10u32 {
             bar.set_message(format!("seed003 {} level {level}", sc.name));
