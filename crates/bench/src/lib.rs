@@ -7,6 +7,7 @@
 pub mod charts;
 pub mod fonts;
 pub mod heatmap;
+pub mod line_chart;
 pub mod machine;
 pub mod markdown;
 pub mod measure;

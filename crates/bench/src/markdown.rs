@@ -30,7 +30,7 @@ pub fn bytes(n: usize) -> String {
 }
 
 /// Three significant digits at most, no exponent.
-fn num(v: f64) -> String {
+pub fn num(v: f64) -> String {
     if !v.is_finite() {
         return "—".into();
     }
@@ -119,7 +119,7 @@ pub fn render(r: &Report, png: bool) -> String {
                     st.kinds.iter().find(|x| &x.kind == k).map(|x| num(x.mrays_per_s)).unwrap_or_else(|| "—".into());
                 let _ = write!(s, " {v} |");
             }
-            let _ = writeln!(s, " {} |", num(st.time_to_image_ms));
+            let _ = writeln!(s, " {} |", st.time_to_image_ms.map(num).unwrap_or_else(|| "—".into()));
         }
         let _ = writeln!(s, "\nWork per ray (counted pass: nodes visited / triangles tested), hits, rays checked:\n");
         let mut head = "| structure |".to_string();
@@ -165,6 +165,15 @@ pub fn render(r: &Report, png: bool) -> String {
         let _ = writeln!(s, "![build time vs triangles](build-vs-triangles.{ext})\n\n![Mrays/s](mrays.{ext})\n");
     }
 
+    if let Some(p) = &r.seed000 {
+        crate::presets::seed000::markdown(p, png, &mut s);
+    }
+    if let Some(p) = &r.seed002 {
+        crate::presets::seed002::markdown(p, &mut s);
+    }
+    if let Some(p) = &r.seed004 {
+        crate::presets::seed004::markdown(p, png, &mut s);
+    }
     if let Some(p) = &r.seed003 {
         let _ = writeln!(
             s,

@@ -170,6 +170,9 @@ pub struct MeasureInput<'a> {
     pub width: u32,
     /// Render height.
     pub height: u32,
+    /// Measure the time to image (build + Whitted render); presets that only compare
+    /// traversal skip it.
+    pub time_to_image: bool,
 }
 
 /// Everything about one structure on one scene; per-pixel work of the primary rays is
@@ -226,6 +229,31 @@ pub fn measure(
     }
     drop(accel);
 
+    let (time_to_image_ms, render_ms, render_rays) =
+        if input.time_to_image { time_to_image(v, input, step)? } else { (None, None, 0) };
+    let result = StructureResult {
+        accel: label,
+        build_ms: median(&build_ms_runs),
+        build_ms_runs,
+        memory_bytes: stats.memory_bytes,
+        nodes: stats.nodes,
+        leaves: stats.leaves,
+        max_depth: stats.max_depth,
+        primitive_refs: stats.primitive_refs,
+        sah_cost: stats.sah_cost,
+        extra: stats.extra,
+        kinds,
+        time_to_image_ms,
+        render_ms,
+        render_rays,
+        heatmap: None,
+    };
+    Ok((result, heat))
+}
+
+/// Build + Whitted render at the bench size, `repeat` times: medians of the whole and of
+/// the render alone, and the rays the render traced.
+fn time_to_image(v: &AccelVariant, input: &MeasureInput<'_>, step: &dyn Fn(&str)) -> Result<TimeToImage> {
     step("render");
     let mut frame = input.frame.clone();
     frame.settings.width = input.width;
@@ -242,25 +270,11 @@ pub fn measure(
         tti.push(ms(t));
         render_rays = stats.total_rays();
     }
-    let result = StructureResult {
-        accel: label,
-        build_ms: median(&build_ms_runs),
-        build_ms_runs,
-        memory_bytes: stats.memory_bytes,
-        nodes: stats.nodes,
-        leaves: stats.leaves,
-        max_depth: stats.max_depth,
-        primitive_refs: stats.primitive_refs,
-        sah_cost: stats.sah_cost,
-        extra: stats.extra,
-        kinds,
-        time_to_image_ms: median(&tti),
-        render_ms: median(&rend),
-        render_rays,
-        heatmap: None,
-    };
-    Ok((result, heat))
+    Ok((Some(median(&tti)), Some(median(&rend)), render_rays))
 }
+
+/// Time to image, render alone (ms), rays rendered.
+type TimeToImage = (Option<f64>, Option<f64>, u64);
 
 #[cfg(test)]
 mod tests {

@@ -26,8 +26,14 @@ pub struct Report {
     pub config: ConfigEcho,
     /// Standard measurements: one entry per scene (empty when only presets ran).
     pub scenes: Vec<SceneResult>,
+    /// `--preset seed000` results (BIH leaf-size sweep against the kd-trees).
+    pub seed000: Option<StudyResult>,
+    /// `--preset seed002` results (octree walks against the BVH).
+    pub seed002: Option<StudyResult>,
     /// `--preset seed003` results.
     pub seed003: Option<Seed003Result>,
+    /// `--preset seed004` results (A-PIT against the plain A-buffer by resolution).
+    pub seed004: Option<StudyResult>,
     /// `--preset dynamic` results.
     pub dynamic: Option<DynamicResult>,
     /// Every disagreement with brute force (the run fails when this is not empty).
@@ -119,10 +125,11 @@ pub struct StructureResult {
     pub extra: Vec<(String, String)>,
     /// Per ray kind.
     pub kinds: Vec<KindResult>,
-    /// Whitted render of the frame at the bench size: build + render, median, ms.
-    pub time_to_image_ms: f64,
-    /// The render part alone, median, ms.
-    pub render_ms: f64,
+    /// Whitted render of the frame at the bench size: build + render, median, ms (`null`
+    /// when the preset does not measure it).
+    pub time_to_image_ms: Option<f64>,
+    /// The render part alone, median, ms (`null` as above).
+    pub render_ms: Option<f64>,
     /// Rays the render traced (primary + shadow + secondary).
     pub render_rays: u64,
     /// Heat map file, relative to the output folder.
@@ -169,6 +176,45 @@ pub struct Mismatch {
     pub expected: String,
     /// The structure's answer.
     pub got: String,
+}
+
+/// A seed preset measured like the standard run (same fields per scene and structure) on
+/// the preset's scenes and structure variants, with the ratios the seed reports.
+#[derive(Clone, Debug, Serialize)]
+pub struct StudyResult {
+    /// Preset name (`seed000`, …).
+    pub preset: String,
+    /// Image width of the ray sets (and renders, when time to image is measured).
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Timed repetitions (medians reported).
+    pub repeat: usize,
+    /// Ray kinds measured.
+    pub rays: Vec<String>,
+    /// Per scene, as in the standard run.
+    pub scenes: Vec<SceneResult>,
+    /// The seed's comparisons, computed from `scenes`.
+    pub ratios: Vec<Ratio>,
+}
+
+/// One comparison of two structures on one scene and metric.
+#[derive(Clone, Debug, Serialize)]
+pub struct Ratio {
+    /// Scene.
+    pub scene: String,
+    /// `build_ms`, `trace_ms:KIND`, `time_to_image_ms` or `memory_bytes`.
+    pub metric: String,
+    /// The structure compared against (`--accels` spelling).
+    pub baseline: String,
+    /// The structure compared.
+    pub candidate: String,
+    /// The baseline's value (ms or bytes).
+    pub baseline_value: f64,
+    /// The candidate's value.
+    pub candidate_value: f64,
+    /// `baseline_value / candidate_value`: above 1 the candidate is faster (or smaller).
+    pub speedup: f64,
 }
 
 /// `--preset seed003`: single-threaded brute force against the parallel accelerated tracer.

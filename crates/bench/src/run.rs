@@ -17,35 +17,44 @@ pub enum Preset {
     /// Per scene × structure: build, shape, Mrays/s per ray kind, work per ray, time to
     /// image, heat maps.
     Standard,
+    /// Seed 000's experiment: BIH leaf-size sweep (shrink on/off) against the kd-trees.
+    Seed000,
+    /// Seed 002's experiment: octree walk and descent, balanced or not, against the BVH.
+    Seed002,
     /// Seed 003's experiment: single-threaded brute force vs the parallel accelerated
     /// tracer, ray casting and Whitted levels 1..=10.
     Seed003,
+    /// Seed 004's experiment: A-PIT against the plain A-buffer by A-buffer resolution.
+    Seed004,
     /// Every vertex moves each frame: rebuild vs update, trace, time to image per frame.
     Dynamic,
 }
 
 impl Preset {
+    /// Every preset, in the order `--preset all` runs them.
+    pub const ALL: [Preset; 6] =
+        [Preset::Standard, Preset::Seed000, Preset::Seed002, Preset::Seed003, Preset::Seed004, Preset::Dynamic];
+
     /// `--preset` spelling.
     pub fn name(self) -> &'static str {
         match self {
             Preset::Standard => "standard",
+            Preset::Seed000 => "seed000",
+            Preset::Seed002 => "seed002",
             Preset::Seed003 => "seed003",
+            Preset::Seed004 => "seed004",
             Preset::Dynamic => "dynamic",
         }
     }
 
     /// Parses `--preset`: one of the names above, or `all` for every one.
     pub fn parse(s: &str) -> Result<Vec<Preset>> {
-        Ok(match s {
-            "standard" => vec![Preset::Standard],
-            "seed003" => vec![Preset::Seed003],
-            "dynamic" => vec![Preset::Dynamic],
-            "all" => vec![Preset::Standard, Preset::Seed003, Preset::Dynamic],
-            "seed000" | "seed002" | "seed004" => anyhow::bail!(
-                "--preset {s}: not implemented yet (it needs structure parameters the lead wires in; see docs/bench.md)"
-            ),
-            _ => anyhow::bail!("--preset: unknown preset `{s}` (expected standard, seed003, dynamic or all)"),
-        })
+        if s == "all" {
+            return Ok(Preset::ALL.to_vec());
+        }
+        let one = Preset::ALL.iter().find(|p| p.name() == s).copied();
+        let names: Vec<&str> = Preset::ALL.iter().map(|p| p.name()).collect();
+        Ok(vec![one.with_context(|| format!("--preset: unknown preset `{s}` (expected {} or all)", names.join(", ")))?])
     }
 }
 
@@ -188,13 +197,31 @@ pub fn run(config: &BenchConfig) -> Result<Report> {
             presets: config.presets.iter().map(|p| p.name().to_string()).collect(),
         },
         scenes: Vec::new(),
+        seed000: None,
+        seed002: None,
         seed003: None,
+        seed004: None,
         dynamic: None,
         mismatches: Vec::new(),
         notes: Vec::new(),
     };
     if config.presets.contains(&Preset::Standard) {
         standard(config, &accels, &mut report)?;
+    }
+    if config.presets.contains(&Preset::Seed000) {
+        let mut r = presets::study::run(config, &presets::seed000::study(config), &mut report.mismatches)?;
+        r.ratios = presets::seed000::ratios(&r);
+        report.seed000 = Some(r);
+    }
+    if config.presets.contains(&Preset::Seed002) {
+        let mut r = presets::study::run(config, &presets::seed002::study(config), &mut report.mismatches)?;
+        r.ratios = presets::seed002::ratios(&r);
+        report.seed002 = Some(r);
+    }
+    if config.presets.contains(&Preset::Seed004) {
+        let mut r = presets::study::run(config, &presets::seed004::study(config), &mut report.mismatches)?;
+        r.ratios = presets::seed004::ratios(&r);
+        report.seed004 = Some(r);
     }
     if config.presets.contains(&Preset::Seed003) {
         report.seed003 = Some(presets::seed003::run(config, &accels, &mut report.notes, &mut report.mismatches)?);
@@ -208,14 +235,58 @@ pub fn run(config: &BenchConfig) -> Result<Report> {
 }
 
 fn standard(config: &BenchConfig, accels: &[AccelVariant], report: &mut Report) -> Result<()> {
-    let loaded = load_scenes(&config.standard_scenes(), config.scenes_dir.as_deref())?;
-    let bar = progress_bar(config.progress, (loaded.len() * (accels.len() + 1)) as u64);
-    for sc in &loaded {
-        bar.set_message(format!("{}: rays and brute-force answers", sc.name));
-        let reference = accels[0]
-            .build_in(&sc.frame)
-            .with_context(|| format!("{}: cannot build {}", sc.name, accels[0].label()))?;
-        let sets = rays::generate(&sc.frame, config.width, config.height, &config.rays, reference.as_ref());
+    let plan: Vec<(String, Vec<AccelVariant>)> =
+        config.standard_scenes().into_iter().map(|n| (n, accels.to_vec())).collect();
+    let how = SceneMeasure {
+        rays: config.rays.clone(),
+        width: config.width,
+        height: config.height,
+        repeat: config.repeat,
+        time_to_image: true,
+        heatmaps: config.png,
+        label: "",
+    };
+    report.scenes = measure_scenes(config, &plan, &how, &mut report.mismatches)?;
+    Ok(())
+}
+
+/// How [`measure_scenes`] measures: the standard run's settings, or a preset's.
+pub struct SceneMeasure {
+    /// Ray kinds.
+    pub rays: Vec<RayKind>,
+    /// Image width of the ray sets and renders.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Timed repetitions.
+    pub repeat: usize,
+    /// Render a Whitted image per structure (time to image).
+    pub time_to_image: bool,
+    /// Write a traversal-cost heat map per structure (needs primary rays).
+    pub heatmaps: bool,
+    /// Prefix of the progress messages (`seed000 `, …).
+    pub label: &'static str,
+}
+
+/// Measures every structure of `plan` on its scene: the same ray sets and brute-force
+/// answers for all structures of a scene; disagreements go to `mismatches`.
+pub fn measure_scenes(
+    config: &BenchConfig,
+    plan: &[(String, Vec<AccelVariant>)],
+    how: &SceneMeasure,
+    mismatches: &mut Vec<Mismatch>,
+) -> Result<Vec<SceneResult>> {
+    let names: Vec<String> = plan.iter().map(|(n, _)| n.clone()).collect();
+    let loaded = load_scenes(&names, config.scenes_dir.as_deref())?;
+    let steps: usize = plan.iter().map(|(_, a)| a.len() + 1).sum();
+    let bar = progress_bar(config.progress, steps as u64);
+    let mut out = Vec::new();
+    for (sc, (_, accels)) in loaded.iter().zip(plan) {
+        bar.set_message(format!("{}{}: rays and brute-force answers", how.label, sc.name));
+        let first = accels.first().context("no structure to measure")?;
+        let reference =
+            first.build_in(&sc.frame).with_context(|| format!("{}: cannot build {}", sc.name, first.label()))?;
+        let sets = rays::generate(&sc.frame, how.width, how.height, &how.rays, reference.as_ref());
         drop(reference);
         let brute = Brute::build(&sc.frame.mesh).with_context(|| format!("{}: cannot build brute", sc.name))?;
         let expected = oracle(&brute, &sets, config.verify_sample);
@@ -237,28 +308,29 @@ fn standard(config: &BenchConfig, accels: &[AccelVariant], report: &mut Report) 
                 frame: &sc.frame,
                 sets: &sets,
                 expected: if is_oracle { &[] } else { &expected },
-                repeat: config.repeat,
-                width: config.width,
-                height: config.height,
+                repeat: how.repeat,
+                width: how.width,
+                height: how.height,
+                time_to_image: how.time_to_image,
             };
-            let step = |s: &str| bar.set_message(format!("{} / {}: {s}", sc.name, v.label()));
-            let (mut res, heat) = measure(v, &input, &mut report.mismatches, &step)?;
-            if let (Some(work), true) = (heat, config.png) {
+            let step = |s: &str| bar.set_message(format!("{}{} / {}: {s}", how.label, sc.name, v.label()));
+            let (mut res, heat) = measure(v, &input, mismatches, &step)?;
+            if let (Some(work), true) = (heat, how.heatmaps) {
                 let file = format!("heatmap-{}-{}.png", file_safe(&sc.name), file_safe(&res.accel));
                 let title = format!(
                     "{} on {} ({} triangles), {}x{}",
-                    res.accel, sc.name, result.triangles, config.width, config.height
+                    res.accel, sc.name, result.triangles, how.width, how.height
                 );
-                heatmap::write(&config.out.join(&file), &work, config.width, config.height, &title)?;
+                heatmap::write(&config.out.join(&file), &work, how.width, how.height, &title)?;
                 res.heatmap = Some(file);
             }
             result.structures.push(res);
             bar.inc(1);
         }
-        report.scenes.push(result);
+        out.push(result);
     }
     bar.finish_and_clear();
-    Ok(())
+    Ok(out)
 }
 
 /// A name usable in a file name: letters, digits, `-`, `_`, `.`; anything else becomes `_`.
@@ -277,6 +349,13 @@ fn write_outputs(config: &BenchConfig, report: &Report) -> Result<()> {
     }
     if let Some(s) = &report.seed003 {
         charts::save(&charts::SpeedupChart(s), out, "seed003-speedup", config.png)?;
+    }
+    if let Some(s) = &report.seed000 {
+        charts::save(&presets::seed000::sweep_chart(s), out, "seed000-sweep", config.png)?;
+        charts::save(&presets::seed000::memory_chart(s), out, "seed000-memory", config.png)?;
+    }
+    if let Some(s) = &report.seed004 {
+        charts::save(&presets::seed004::chart(s), out, "seed004-speedup", config.png)?;
     }
     // The reports last: their presence means every other file is complete.
     let json = serde_json::to_vec_pretty(report).context("report.json: serialisation failed")?;

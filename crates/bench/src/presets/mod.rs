@@ -1,9 +1,12 @@
-//! The bench's presets beyond the standard measurements: seed 003's speed-up tables and
-//! the dynamic-scene experiment. (seed000/002/004 need structure parameters: see
-//! docs/bench.md.)
+//! The bench's presets beyond the standard measurements: each seed's experiment
+//! (seed000, seed002, seed003, seed004) and the dynamic-scene experiment.
 
 pub mod dynamic;
+pub mod seed000;
+pub mod seed002;
 pub mod seed003;
+pub mod seed004;
+pub mod study;
 
 use crate::variant::AccelVariant;
 use dynray_accel::AccelKind;

@@ -1,0 +1,155 @@
+//! A generic chart of line series in side-by-side panels (one panel per scene, say), for
+//! the presets' sweeps: seed 000's leaf-size sweep, seed 004's speed-up by resolution.
+
+use crate::charts::{err, series_color, short, Chart};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+/// One line: a name, its points, and whether it is a reference level (drawn dashed-looking
+/// as a thin line without markers).
+pub struct Series {
+    /// Legend text.
+    pub name: String,
+    /// Points (x, y); non-finite or non-positive y (on a log axis) are skipped.
+    pub points: Vec<(f64, f64)>,
+    /// A horizontal reference (e.g. the kd-tree's figure in a BIH sweep).
+    pub reference: bool,
+}
+
+/// One panel.
+pub struct Panel {
+    /// Panel title.
+    pub title: String,
+    /// Lines of the panel; colours are given by position, so equal positions across
+    /// panels mean the same thing.
+    pub series: Vec<Series>,
+}
+
+/// Panels side by side under a caption, sharing axis descriptions.
+pub struct LineChart {
+    /// Caption over all panels.
+    pub caption: String,
+    /// X axis description.
+    pub x_desc: String,
+    /// Y axis description.
+    pub y_desc: String,
+    /// Base-2 logarithmic x axis with ticks at powers of two (resolutions).
+    pub log2_x: bool,
+    /// Logarithmic y axis (values spanning decades: builds next to renders).
+    pub log_y: bool,
+    /// Start a linear y axis at zero (speed-ups, times); otherwise fit the data.
+    pub y_from_zero: bool,
+    /// The panels.
+    pub panels: Vec<Panel>,
+}
+
+impl Chart for LineChart {
+    fn size(&self) -> (u32, u32) {
+        (520 * self.panels.len().clamp(1, 3) as u32 + 40, 560)
+    }
+
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
+        let body = root.titled(&self.caption, ("sans-serif", 22)).map_err(err)?;
+        let areas = body.split_evenly((1, self.panels.len().max(1)));
+        for (panel, area) in self.panels.iter().zip(&areas) {
+            self.draw_panel(panel, area)?;
+        }
+        Ok(())
+    }
+}
+
+impl LineChart {
+    fn draw_panel<DB: DrawingBackend>(&self, p: &Panel, area: &DrawingArea<DB, Shift>) -> Result<(), String> {
+        // A log2 x axis is drawn as a linear axis over log2(x), labelled 2^k.
+        let tx = |x: f64| if self.log2_x { x.max(1e-300).log2() } else { x };
+        let ok = |y: f64| y.is_finite() && (!self.log_y || y > 0.0);
+        let series: Vec<Series> = p
+            .series
+            .iter()
+            .map(|s| Series {
+                name: s.name.clone(),
+                points: s.points.iter().filter(|(x, y)| x.is_finite() && ok(*y)).map(|&(x, y)| (tx(x), y)).collect(),
+                reference: s.reference,
+            })
+            .collect();
+        let pts = || series.iter().flat_map(|s| s.points.iter().copied());
+        let (xmin, xmax) = pts().fold((f64::MAX, f64::MIN), |(a, b), (x, _)| (a.min(x), b.max(x)));
+        let (ymin, ymax) = pts().fold((f64::MAX, f64::MIN), |(a, b), (_, y)| (a.min(y), b.max(y)));
+        if xmin > xmax {
+            return Ok(());
+        }
+        let pad = ((xmax - xmin) * 0.05).max(0.25);
+        let xr = xmin - pad..xmax + pad;
+        let mut b = ChartBuilder::on(area);
+        b.caption(&p.title, ("sans-serif", 17)).margin(12).x_label_area_size(45).y_label_area_size(60);
+        let log2 = self.log2_x;
+        let xfmt = move |v: &f64| {
+            if !log2 {
+                short(*v)
+            } else if (v - v.round()).abs() < 1e-6 {
+                short(2f64.powf(v.round()))
+            } else {
+                String::new()
+            }
+        };
+        let x_labels = if log2 { (xmax - xmin).round() as usize + 1 } else { 10 };
+        let panel = Panel { title: p.title.clone(), series };
+        if self.log_y {
+            let mut chart = b.build_cartesian_2d(xr, (ymin / 1.3..ymax * 1.5).log_scale()).map_err(err)?;
+            chart
+                .configure_mesh()
+                .x_desc(&self.x_desc)
+                .y_desc(&self.y_desc)
+                .x_labels(x_labels)
+                .x_label_formatter(&xfmt)
+                .y_label_formatter(&|v| short(*v))
+                .label_style(("sans-serif", 13))
+                .draw()
+                .map_err(err)?;
+            draw_series(&mut chart, &panel)
+        } else {
+            let ylo = if self.y_from_zero { 0.0 } else { ymin - (ymax - ymin).max(ymax.abs() * 0.05) * 0.1 };
+            let yhi = ymax + (ymax - ylo).max(1e-9) * 0.12;
+            let mut chart = b.build_cartesian_2d(xr, ylo..yhi).map_err(err)?;
+            chart
+                .configure_mesh()
+                .x_desc(&self.x_desc)
+                .y_desc(&self.y_desc)
+                .x_labels(x_labels)
+                .x_label_formatter(&xfmt)
+                .y_label_formatter(&|v| short(*v))
+                .label_style(("sans-serif", 13))
+                .draw()
+                .map_err(err)?;
+            draw_series(&mut chart, &panel)
+        }
+    }
+}
+
+/// The panel's lines, markers and legend on an already configured chart (linear or log x).
+fn draw_series<'a, DB: DrawingBackend + 'a, X: Ranged<ValueType = f64>, Y: Ranged<ValueType = f64>>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
+    p: &Panel,
+) -> Result<(), String> {
+    for (i, s) in p.series.iter().enumerate() {
+        let c = series_color(i);
+        let style = if s.reference { c.stroke_width(1) } else { c.stroke_width(2) };
+        chart
+            .draw_series(LineSeries::new(s.points.clone(), style))
+            .map_err(err)?
+            .label(s.name.as_str())
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(3)));
+        if !s.reference {
+            chart.draw_series(s.points.iter().map(|&q| Circle::new(q, 3, c.filled()))).map_err(err)?;
+        }
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 12))
+        .draw()
+        .map_err(err)?;
+    Ok(())
+}
