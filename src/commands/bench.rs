@@ -12,10 +12,12 @@ pub fn run(a: BenchArgs) -> Result<()> {
     let config = config(a)?;
     let report = dynray_bench::run(&config)?;
     eprintln!(
-        "dynray bench: {} scene(s) x {} structure(s) on {} threads -> {}",
-        report.scenes.len().max(report.seed003.as_ref().map_or(0, |s| s.scenes.len())),
-        report.config.accels.len(),
+        "dynray bench: preset {}, {} scene measurement(s) on {} threads, {} – {} -> {}",
+        report.config.presets.join("+"),
+        report.scene_runs(),
         report.threads,
+        report.started_utc,
+        report.finished_utc,
         config.out.join("report.md").display()
     );
     if let Some(m) = mismatch_summary(&report.mismatches) {

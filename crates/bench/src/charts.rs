@@ -1,9 +1,9 @@
 //! Charts of a run, each written as SVG and (with a font) PNG: build time against
 //! triangle count, Mrays/s per structure and scene, the dynamic preset's per-frame
-//! update times and the seed003 speed-ups.
+//! update times. (The presets draw their own charts with `line_chart`.)
 
 use crate::output::{write_atomic, write_png};
-use crate::report::{DynamicResult, Report, Seed003Result};
+use crate::report::{DynamicResult, Report};
 use anyhow::{anyhow, Result};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -272,58 +272,6 @@ impl DynamicChart<'_> {
             }
         }
         s
-    }
-}
-
-/// seed003 preset: speed-up over single-threaded brute force by recursion level.
-pub struct SpeedupChart<'a>(pub &'a Seed003Result);
-
-impl Chart for SpeedupChart<'_> {
-    fn size(&self) -> (u32, u32) {
-        (900, 600)
-    }
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
-        let s = self.0;
-        let ymax = s.scenes.iter().flat_map(|sc| sc.levels.iter().map(|l| l.speedup)).fold(1.0f64, f64::max) * 1.15;
-        let mut chart = ChartBuilder::on(root)
-            .caption(
-                format!(
-                    "Speed-up: {} on {} threads vs brute force on 1 thread ({}x{})",
-                    s.accel, s.threads, s.width, s.height
-                ),
-                ("sans-serif", 20),
-            )
-            .margin(16)
-            .x_label_area_size(50)
-            .y_label_area_size(70)
-            .build_cartesian_2d(0.5..10.5f64, 0.0..ymax)
-            .map_err(err)?;
-        chart
-            .configure_mesh()
-            .x_desc("maximum recursion level (1 = ray casting: primary + shadow rays)")
-            .y_desc("speed-up (times faster)")
-            .label_style(("sans-serif", 14))
-            .axis_desc_style(("sans-serif", 16))
-            .draw()
-            .map_err(err)?;
-        for (i, sc) in s.scenes.iter().enumerate() {
-            let c = series_color(i);
-            let pts: Vec<(f64, f64)> = sc.levels.iter().map(|l| (l.level as f64, l.speedup)).collect();
-            chart
-                .draw_series(LineSeries::new(pts.clone(), c.stroke_width(2)))
-                .map_err(err)?
-                .label(sc.name.as_str())
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(3)));
-            chart.draw_series(pts.into_iter().map(|p| Circle::new(p, 4, c.filled()))).map_err(err)?;
-        }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 15))
-            .draw()
-            .map_err(err)?;
-        Ok(())
     }
 }
 

@@ -175,45 +175,7 @@ pub fn render(r: &Report, png: bool) -> String {
         crate::presets::seed004::markdown(p, png, &mut s);
     }
     if let Some(p) = &r.seed003 {
-        let _ = writeln!(
-            s,
-            "## Preset seed003 — brute force on 1 thread vs {} on {} threads, {}×{}\n",
-            p.accel, p.threads, p.width, p.height
-        );
-        if (p.width, p.height) != (640, 480) {
-            let _ = writeln!(s, "Resolution reduced from the seed's 640×480 to {}×{}.\n", p.width, p.height);
-        }
-        let _ = writeln!(
-            s,
-            "Level 1 is ray casting (primary + shadow rays, seed 003 Tables 4.2–4.3); levels 2–10 are Whitted ray \
-             tracing with that maximum recursion level (Table 4.8). Times are renders with the structure prebuilt.\n"
-        );
-        for sc in &p.scenes {
-            let _ = writeln!(
-                s,
-                "### {} — {} triangles, {} light(s)\n\n| level | rays | brute 1 thread ms | {} {} threads ms | speed-up | same image |\n|--:|--:|--:|--:|--:|:-:|",
-                sc.name,
-                thousands(sc.triangles as u64),
-                sc.lights,
-                p.accel,
-                p.threads
-            );
-            for l in &sc.levels {
-                let _ = writeln!(
-                    s,
-                    "| {} | {} | {} | {} | {} | {} |",
-                    l.level,
-                    thousands(l.rays),
-                    num(l.brute_single_ms),
-                    num(l.accel_parallel_ms),
-                    num(l.speedup),
-                    if l.images_identical { "yes" } else { "**no**" }
-                );
-            }
-            let _ = writeln!(s);
-        }
-        let ext = if png { "png" } else { "svg" };
-        let _ = writeln!(s, "![seed003 speed-up](seed003-speedup.{ext})\n");
+        crate::presets::seed003::markdown(p, png, &mut s);
     }
 
     if let Some(d) = &r.dynamic {

@@ -42,6 +42,17 @@ pub struct Report {
     pub notes: Vec<String>,
 }
 
+impl Report {
+    /// Scene measurements in the run, over the standard run and every preset.
+    pub fn scene_runs(&self) -> usize {
+        let studies = [&self.seed000, &self.seed002, &self.seed004];
+        self.scenes.len()
+            + studies.iter().filter_map(|s| s.as_ref()).map(|s| s.scenes.len()).sum::<usize>()
+            + self.seed003.as_ref().map_or(0, |s| s.scenes.len())
+            + self.dynamic.as_ref().map_or(0, |d| d.runs.len())
+    }
+}
+
 /// The machine.
 #[derive(Clone, Debug, Serialize)]
 pub struct Machine {
@@ -217,7 +228,9 @@ pub struct Ratio {
     pub speedup: f64,
 }
 
-/// `--preset seed003`: single-threaded brute force against the parallel accelerated tracer.
+/// `--preset seed003`: the Whitted tracer on one thread against the same tracer on every
+/// thread (the seed's CPU-vs-GPU speed-up, SP, and efficiency, EF = SP / threads), and
+/// single-threaded brute force on scenes small enough for it.
 #[derive(Clone, Debug, Serialize)]
 pub struct Seed003Result {
     /// Image width used (the seed used 640).
@@ -226,8 +239,10 @@ pub struct Seed003Result {
     pub height: u32,
     /// The accelerated structure.
     pub accel: String,
-    /// Threads of the accelerated tracer.
+    /// Threads of the parallel tracer.
     pub threads: usize,
+    /// Brute force runs only on scenes with at most this many triangles.
+    pub brute_max_triangles: usize,
     /// One entry per scene.
     pub scenes: Vec<Seed003Scene>,
 }
@@ -241,24 +256,34 @@ pub struct Seed003Scene {
     pub triangles: usize,
     /// Lights.
     pub lights: usize,
-    /// Rows by recursion level 1..=10 (level 1 = ray casting: primary + shadow rays).
+    /// Build time of the structure, median, ms (the seed's Table 4.9 measures the CPU build).
+    pub build_ms: f64,
+    /// Rows by recursion level 1..=10 (level 1 = ray casting: primary + shadow rays, the
+    /// seed's "0 nível" row of Table 4.8).
     pub levels: Vec<Seed003Level>,
 }
 
-/// One recursion level of the seed003 preset.
+/// One recursion level of the seed003 preset (renders with the structure prebuilt,
+/// medians of `repeat`).
 #[derive(Clone, Debug, Serialize)]
 pub struct Seed003Level {
     /// Maximum ray level (1 = primary + shadow rays only).
     pub level: u32,
     /// Rays traced.
     pub rays: u64,
-    /// Single-threaded brute force, ms.
-    pub brute_single_ms: f64,
-    /// Parallel tracer with the accelerated structure (render only, structure prebuilt), ms.
+    /// The accelerated tracer on one thread, ms (the seed's CPU column).
+    pub accel_single_ms: f64,
+    /// The accelerated tracer on every thread, ms (the seed's GPU columns).
     pub accel_parallel_ms: f64,
-    /// `brute_single_ms / accel_parallel_ms`.
+    /// `accel_single_ms / accel_parallel_ms` (the seed's SP).
     pub speedup: f64,
-    /// True when both images are identical pixel for pixel (they must be).
+    /// `speedup / threads` (the seed's EF).
+    pub efficiency: f64,
+    /// Brute force on one thread, ms (`null` above `brute_max_triangles`).
+    pub brute_single_ms: Option<f64>,
+    /// `brute_single_ms / accel_parallel_ms`: structure and threads together.
+    pub brute_speedup: Option<f64>,
+    /// True when every image of this level is identical pixel for pixel (they must be).
     pub images_identical: bool,
 }
 

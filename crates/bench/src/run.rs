@@ -159,13 +159,15 @@ pub fn progress_bar(show: bool, len: u64) -> ProgressBar {
     bar
 }
 
-/// Loads the scenes named in `names`.
+/// Loads the scenes named in `names` (model names, files, or `demo`).
 pub fn load_scenes(names: &[String], dir: Option<&Path>) -> Result<Vec<BenchScene>> {
     let dir = scenes::scenes_dir(dir);
     // Resolve every name before loading any, so a typo fails at once.
-    let resolved: Vec<(String, PathBuf)> =
-        names.iter().map(|n| scenes::resolve(n, dir.as_deref())).collect::<Result<_>>()?;
-    resolved.iter().map(|(n, p)| scenes::load(n, p)).collect()
+    let resolved: Vec<Option<(String, PathBuf)>> = names
+        .iter()
+        .map(|n| if n == scenes::DEMO { Ok(None) } else { scenes::resolve(n, dir.as_deref()).map(Some) })
+        .collect::<Result<_>>()?;
+    resolved.iter().map(|r| r.as_ref().map_or_else(|| Ok(scenes::demo()), |(n, p)| scenes::load(n, p))).collect()
 }
 
 /// Runs the bench: measures, then writes every file into `config.out`. Disagreements with
@@ -348,7 +350,7 @@ fn write_outputs(config: &BenchConfig, report: &Report) -> Result<()> {
         charts::save(&charts::DynamicChart(d), out, "dynamic", config.png)?;
     }
     if let Some(s) = &report.seed003 {
-        charts::save(&charts::SpeedupChart(s), out, "seed003-speedup", config.png)?;
+        charts::save(&presets::seed003::chart(s), out, "seed003-speedup", config.png)?;
     }
     if let Some(s) = &report.seed000 {
         charts::save(&presets::seed000::sweep_chart(s), out, "seed000-sweep", config.png)?;

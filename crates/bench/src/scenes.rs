@@ -17,6 +17,10 @@ pub const KNOWN_SCENES: &[(&str, &str)] = &[
     ("cesium-man", "CesiumMan/glTF-Binary/CesiumMan.glb"),
 ];
 
+/// The name of the built-in demo scene (mirror and glass spheres on a checkerboard, the
+/// scene `dynray render` draws): no file needed.
+pub const DEMO: &str = "demo";
+
 /// A loaded bench scene.
 pub struct BenchScene {
     /// Name as given (`bunny`) or the file's name.
@@ -46,7 +50,9 @@ pub fn scenes_dir(explicit: Option<&Path>) -> Option<PathBuf> {
 }
 
 fn known_names() -> String {
-    KNOWN_SCENES.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(", ")
+    let mut names: Vec<&str> = KNOWN_SCENES.iter().map(|(n, _)| *n).collect();
+    names.push(DEMO);
+    names.join(", ")
 }
 
 /// Resolves one `--scenes` entry to a file: an existing path, or a known model name.
@@ -73,6 +79,13 @@ pub fn resolve(entry: &str, dir: Option<&Path>) -> Result<(String, PathBuf)> {
         bail!("scene `{entry}`: {} does not exist (scenes folder {})", path.display(), dir.display());
     }
     Ok((entry.to_string(), path))
+}
+
+/// The built-in demo scene as a bench scene.
+pub fn demo() -> BenchScene {
+    let mut scene = dynray_scene::demo::demo_scene();
+    scene.add_default_light();
+    BenchScene { name: DEMO.to_string(), path: PathBuf::from("(built-in demo scene)"), frame: scene.frame(0.0) }
 }
 
 /// Loads a resolved scene; the frame gets the scene's camera or one framing its box,
