@@ -1,14 +1,10 @@
 //! Smoke test of `dynray bench --quick`'s library path on the dragon-res4 at a tiny size:
 //! the JSON report is complete and consistent and agrees with brute force.
 
-use dynray_bench::{run, BenchConfig};
-use std::path::{Path, PathBuf};
+mod support;
 
-fn scenes_dir() -> PathBuf {
-    std::env::var("DYNRAY_SCENES")
-        .map(PathBuf::from)
-        .unwrap_or_else(|_| Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/scenes"))
-}
+use dynray_bench::{run, BenchConfig};
+use support::scenes_dir;
 
 #[test]
 fn quick_bench_report_is_complete_and_consistent() {

@@ -16,6 +16,11 @@ pub fn examples_dir() -> PathBuf {
     root().join("examples")
 }
 
+/// The test models: `$DYNRAY_SCENES`, else `../shared/scenes` beside the checkout.
+pub fn scenes_dir() -> PathBuf {
+    std::env::var_os("DYNRAY_SCENES").map(PathBuf::from).unwrap_or_else(|| root().join("../shared/scenes"))
+}
+
 /// Runs the `dynray` binary with `args` from the checkout's root, so relative paths
 /// such as `examples/whitted.scn` resolve as they do in the README.
 pub fn dynray(args: &[&str]) -> Output {

@@ -1,0 +1,181 @@
+//! `dynray bench --quick --preset all`, the command `.ci/run`'s smoke test relies on: it
+//! succeeds, and the `report.json` it writes is complete and consistent with the schema
+//! of docs/bench.md (every section, every structure on every ray kind, counts that add
+//! up, ratios that name measured structures, no disagreement with brute force).
+
+mod support;
+
+use serde_json::Value;
+use std::path::Path;
+use std::process::Command;
+
+const PRESETS: [&str; 6] = ["standard", "seed000", "seed002", "seed003", "seed004", "dynamic"];
+
+/// Problems found in a report; empty when it is complete and consistent.
+fn check_report(r: &Value) -> Vec<String> {
+    let mut p = Vec::new();
+    let mut need = |ok: bool, what: String| {
+        if !ok {
+            p.push(what);
+        }
+    };
+    need(r["schema"] == 1, "schema is not 1".into());
+    need(r["machine"]["cpu"].is_string(), "machine.cpu missing".into());
+    need(r["threads"].as_u64().is_some_and(|t| t > 0), "threads missing".into());
+    for k in ["started_utc", "finished_utc", "dynray_version"] {
+        need(r[k].as_str().is_some_and(|s| !s.is_empty()), format!("{k} missing"));
+    }
+    let presets: Vec<&str> = r["config"]["presets"].as_array().into_iter().flatten().filter_map(Value::as_str).collect();
+    need(presets == PRESETS, format!("config.presets is {presets:?}"));
+    need(r["mismatches"].as_array().is_some_and(Vec::is_empty), "disagreements with brute force".into());
+    let repeat = r["config"]["repeat"].as_u64().unwrap_or(0) as usize;
+    let rays: Vec<&str> = r["config"]["rays"].as_array().into_iter().flatten().filter_map(Value::as_str).collect();
+    let accels = r["config"]["accels"].as_array().map_or(0, Vec::len);
+
+    let scenes = r["scenes"].as_array().cloned().unwrap_or_default();
+    need(!scenes.is_empty(), "standard: no scene".into());
+    for sc in &scenes {
+        check_scene(sc, &rays, repeat, true, &mut p);
+        let n = sc["structures"].as_array().map_or(0, Vec::len);
+        need(n == accels, format!("standard {}: {n} structures, config names {accels}", sc["name"]));
+    }
+    for preset in ["seed000", "seed002", "seed004"] {
+        let s = &r[preset];
+        let kinds: Vec<&str> = s["rays"].as_array().into_iter().flatten().filter_map(Value::as_str).collect();
+        let Some(scenes) = s["scenes"].as_array().filter(|v| !v.is_empty()) else {
+            p.push(format!("{preset}: missing or empty"));
+            continue;
+        };
+        for sc in scenes {
+            check_scene(sc, &kinds, repeat, preset == "seed000", &mut p);
+        }
+        let ratios = s["ratios"].as_array().cloned().unwrap_or_default();
+        need(!ratios.is_empty(), format!("{preset}: no ratio"));
+        for q in &ratios {
+            let sc = scenes.iter().find(|sc| sc["name"] == q["scene"]);
+            let has = |label: &Value| {
+                sc.and_then(|sc| sc["structures"].as_array()).is_some_and(|v| v.iter().any(|s| s["accel"] == *label))
+            };
+            need(has(&q["baseline"]) && has(&q["candidate"]), format!("{preset}: ratio names unknown structures: {q}"));
+            let (b, c, x) = (num(&q["baseline_value"]), num(&q["candidate_value"]), num(&q["speedup"]));
+            need(b > 0.0 && c > 0.0 && ((b / c) - x).abs() <= 1e-9 * x, format!("{preset}: inconsistent ratio {q}"));
+        }
+    }
+    match r["seed003"]["scenes"].as_array() {
+        Some(scenes) if !scenes.is_empty() => {
+            for sc in scenes {
+                let levels = sc["levels"].as_array().cloned().unwrap_or_default();
+                need(levels.len() == 10, format!("seed003 {}: {} levels", sc["name"], levels.len()));
+                for (i, l) in levels.iter().enumerate() {
+                    need(l["level"] == i + 1, format!("seed003: level {} out of order", l["level"]));
+                    need(l["images_identical"] == true, format!("seed003 {} level {}: images differ", sc["name"], i + 1));
+                    let (s1, sn, sp) = (num(&l["accel_single_ms"]), num(&l["accel_parallel_ms"]), num(&l["speedup"]));
+                    need(sn > 0.0 && ((s1 / sn) - sp).abs() <= 1e-9 * sp, format!("seed003: inconsistent SP {l}"));
+                    need(l["rays"].as_u64().is_some_and(|n| n > 0), format!("seed003: no rays {l}"));
+                }
+            }
+        }
+        _ => p.push("seed003: missing or empty".into()),
+    }
+    let frames = r["dynamic"]["frames"].as_u64().unwrap_or(0) as usize;
+    match r["dynamic"]["runs"].as_array() {
+        Some(runs) if !runs.is_empty() && frames > 0 => {
+            for run in runs {
+                for series in ["rebuild_ms", "update_ms", "trace_ms", "time_to_image_ms"] {
+                    let v = run[series].as_array().cloned().unwrap_or_default();
+                    need(
+                        v.len() == frames && v.iter().all(|x| num(x) >= 0.0),
+                        format!("dynamic {} {}: {series} has {} of {frames} frames", run["scene"], run["accel"], v.len()),
+                    );
+                }
+                need(run["verified"].as_u64().is_some_and(|n| n > 0), format!("dynamic {}: nothing verified", run["accel"]));
+            }
+        }
+        _ => p.push("dynamic: missing or empty".into()),
+    }
+    p
+}
+
+fn num(v: &Value) -> f64 {
+    v.as_f64().filter(|x| x.is_finite()).unwrap_or(f64::NAN)
+}
+
+/// One scene of the standard run or a study: every structure measured on every `kinds`,
+/// counts consistent with the scene's ray counts, repetitions as configured.
+fn check_scene(sc: &Value, kinds: &[&str], repeat: usize, time_to_image: bool, p: &mut Vec<String>) {
+    let name = sc["name"].as_str().unwrap_or("?");
+    let counts: Vec<(&str, u64)> = sc["ray_counts"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .filter_map(|c| Some((c["kind"].as_str()?, c["rays"].as_u64()?)))
+        .collect();
+    if counts.iter().map(|c| c.0).collect::<Vec<_>>() != kinds {
+        p.push(format!("{name}: ray kinds {counts:?}, expected {kinds:?}"));
+    }
+    if sc["triangles"].as_u64().unwrap_or(0) == 0 {
+        p.push(format!("{name}: no triangles"));
+    }
+    for s in sc["structures"].as_array().into_iter().flatten() {
+        let label = format!("{name} / {}", s["accel"]);
+        let brute = s["accel"] == "brute";
+        if !(num(&s["build_ms"]) >= 0.0 && s["build_ms_runs"].as_array().is_some_and(|v| v.len() == repeat)) {
+            p.push(format!("{label}: build times"));
+        }
+        if s["memory_bytes"].as_u64().unwrap_or(0) == 0 {
+            p.push(format!("{label}: no memory figure"));
+        }
+        if time_to_image != (num(&s["time_to_image_ms"]) > 0.0) {
+            p.push(format!("{label}: time to image {} (expected: {time_to_image})", s["time_to_image_ms"]));
+        }
+        let measured: Vec<&Value> = s["kinds"].as_array().into_iter().flatten().collect();
+        if measured.len() != counts.len() {
+            p.push(format!("{label}: {} ray kinds measured of {}", measured.len(), counts.len()));
+        }
+        for (k, (kind, rays)) in measured.iter().zip(&counts) {
+            let ok = k["kind"] == *kind
+                && k["rays"] == *rays
+                && k["trace_ms_runs"].as_array().is_some_and(|v| v.len() == repeat)
+                && num(&k["mrays_per_s"]) > 0.0
+                && num(&k["nodes_per_ray"]) >= 0.0
+                && num(&k["triangles_per_ray"]) >= 0.0
+                && k["hits"].as_u64().is_some_and(|h| h <= *rays)
+                && (brute || k["verified"] == *rays);
+            if !ok {
+                p.push(format!("{label}: inconsistent {kind} figures {k}"));
+            }
+        }
+    }
+}
+
+#[test]
+fn quick_bench_of_every_preset_writes_a_complete_consistent_report() {
+    let out = tempfile::tempdir().unwrap();
+    let status = Command::new(env!("CARGO_BIN_EXE_dynray"))
+        .args(["bench", "--quick", "--preset", "all", "--no-png", "--out"])
+        .arg(out.path())
+        .arg("--scenes-dir")
+        .arg(support::scenes_dir())
+        .status()
+        .unwrap();
+    assert!(status.success(), "dynray bench --quick --preset all failed: {status}");
+    let json: Value = serde_json::from_slice(&std::fs::read(out.path().join("report.json")).unwrap()).unwrap();
+    let problems = check_report(&json);
+    assert!(problems.is_empty(), "report.json:\n{}", problems.join("\n"));
+    let md = std::fs::read_to_string(out.path().join("report.md")).unwrap();
+    for heading in ["## seed000", "## seed002", "## seed003", "## seed004", "## Preset dynamic"] {
+        assert!(md.contains(heading), "report.md lacks {heading}");
+    }
+    for chart in ["build-vs-triangles", "mrays", "seed000-sweep", "seed000-memory", "seed003-speedup", "seed004-speedup", "dynamic"] {
+        assert!(out.path().join(format!("{chart}.svg")).is_file(), "{chart}.svg missing");
+    }
+}
+
+#[test]
+fn the_checker_catches_an_incomplete_report() {
+    let mut r: Value = serde_json::json!({"schema": 1, "scenes": []});
+    assert!(check_report(&r).iter().any(|p| p.contains("standard: no scene")));
+    r["schema"] = 2.into();
+    assert!(check_report(&r).iter().any(|p| p.contains("schema")));
+    assert!(Path::new(env!("CARGO_BIN_EXE_dynray")).is_file());
+}
