@@ -228,6 +228,7 @@ fn standard(config: &BenchConfig, accels: &[AccelVariant], report: &mut Report) 
             vertices: sc.frame.mesh.vertex_count(),
             ray_counts: sets.sets.iter().map(|(k, r)| KindCount { kind: k.name().into(), rays: r.len() }).collect(),
             structures: Vec::new(),
+            competitors: Vec::new(),
         };
         for v in accels {
             // Brute force is the oracle: checking it against itself would prove nothing.
@@ -254,6 +255,20 @@ fn standard(config: &BenchConfig, accels: &[AccelVariant], report: &mut Report) 
             }
             result.structures.push(res);
             bar.inc(1);
+        }
+        #[cfg(feature = "compare")]
+        {
+            let step = |s: &str| bar.set_message(format!("{}: {s}", sc.name));
+            result.competitors = crate::compare::measure_scene(
+                &sc.name,
+                &sc.frame.mesh,
+                &sets,
+                &expected,
+                config.repeat,
+                &result.structures,
+                &mut report.notes,
+                &step,
+            )?;
         }
         report.scenes.push(result);
     }
