@@ -131,8 +131,9 @@ fn side_by_side(s: &mut String, sc: &crate::report::SceneResult, rays: &[String]
         }
         let _ = writeln!(s);
     }
+    let _ = writeln!(s);
     for c in &sc.competitors {
-        let _ = writeln!(s, "\n- {} {}: {}", c.name, c.variant, c.describe);
+        let _ = writeln!(s, "- {} {}: {}", c.name, c.variant, c.describe);
     }
 }
 

@@ -196,6 +196,7 @@ fn cost_ratio(theirs: f64, ours: f64) -> Option<f64> {
 /// Measures every competitor on one scene: build (warm-up + `repeat`, median), memory,
 /// per ray kind a warm-up and `repeat` timed passes (median), and the agreement with
 /// brute force on the sampled rays; ratios against our [`OURS`] row of `ours` when present.
+#[allow(clippy::too_many_arguments)] // the standard run's pieces, as run.rs holds them
 pub fn measure_scene(
     scene: &str,
     mesh: &TriangleMesh,
