@@ -340,9 +340,14 @@ impl Traceable for Single {
 /// 8-wide packets (primary rays: coherent by construction, consecutive pixels of a row).
 struct Packets(EmbreeScene);
 
+/// The packet's valid mask (-1: lane active), aligned like the packet: Embree may load it
+/// as one 256-bit vector.
+#[repr(C, align(32))]
+struct Valid8([i32; 8]);
+
 impl Packets {
-    fn packet(rays: &[Ray]) -> ([i32; 8], RTCRay8) {
-        let mut valid = [0i32; 8];
+    fn packet(rays: &[Ray]) -> (Valid8, RTCRay8) {
+        let mut valid = Valid8([0; 8]);
         let mut p = RTCRay8 {
             org_x: [0.0; 8],
             org_y: [0.0; 8],
@@ -359,7 +364,7 @@ impl Packets {
         };
         for (k, r) in rays.iter().enumerate() {
             let (o, d, tmin, tmax) = parts(r);
-            valid[k] = -1;
+            valid.0[k] = -1;
             (p.org_x[k], p.org_y[k], p.org_z[k]) = (o[0], o[1], o[2]);
             (p.dir_x[k], p.dir_y[k], p.dir_z[k]) = (d[0], d[1], d[2]);
             (p.tnear[k], p.tfar[k]) = (tmin, tmax);
@@ -392,7 +397,7 @@ impl Traceable for Packets {
                 },
             };
             // SAFETY: committed scene, 32-byte aligned packet, valid mask for its lanes.
-            unsafe { rtcIntersect8(valid.as_ptr(), self.0.scene, &mut ctx, &mut rh) };
+            unsafe { rtcIntersect8(valid.0.as_ptr(), self.0.scene, &mut ctx, &mut rh) };
             for (k, o) in os.iter_mut().enumerate() {
                 *o = if rh.hit.geom_id[k] != RTC_INVALID_GEOMETRY_ID {
                     (rh.ray.tfar[k], rh.hit.prim_id[k])
@@ -412,7 +417,7 @@ impl Traceable for Packets {
         for (rs, os) in rays.chunks(8).zip(out.chunks_mut(8)) {
             let (valid, mut ray) = Self::packet(rs);
             // SAFETY: committed scene, 32-byte aligned packet, valid mask for its lanes.
-            unsafe { rtcOccluded8(valid.as_ptr(), self.0.scene, &mut ctx, &mut ray) };
+            unsafe { rtcOccluded8(valid.0.as_ptr(), self.0.scene, &mut ctx, &mut ray) };
             for (k, o) in os.iter_mut().enumerate() {
                 *o = ray.tfar[k] == f32::NEG_INFINITY;
             }
