@@ -25,7 +25,8 @@ fn check_report(r: &Value) -> Vec<String> {
     for k in ["started_utc", "finished_utc", "dynray_version"] {
         need(r[k].as_str().is_some_and(|s| !s.is_empty()), format!("{k} missing"));
     }
-    let presets: Vec<&str> = r["config"]["presets"].as_array().into_iter().flatten().filter_map(Value::as_str).collect();
+    let presets: Vec<&str> =
+        r["config"]["presets"].as_array().into_iter().flatten().filter_map(Value::as_str).collect();
     need(presets == PRESETS, format!("config.presets is {presets:?}"));
     need(r["mismatches"].as_array().is_some_and(Vec::is_empty), "disagreements with brute force".into());
     let repeat = r["config"]["repeat"].as_u64().unwrap_or(0) as usize;
@@ -68,7 +69,10 @@ fn check_report(r: &Value) -> Vec<String> {
                 need(levels.len() == 10, format!("seed003 {}: {} levels", sc["name"], levels.len()));
                 for (i, l) in levels.iter().enumerate() {
                     need(l["level"] == i + 1, format!("seed003: level {} out of order", l["level"]));
-                    need(l["images_identical"] == true, format!("seed003 {} level {}: images differ", sc["name"], i + 1));
+                    need(
+                        l["images_identical"] == true,
+                        format!("seed003 {} level {}: images differ", sc["name"], i + 1),
+                    );
                     let (s1, sn, sp) = (num(&l["accel_single_ms"]), num(&l["accel_parallel_ms"]), num(&l["speedup"]));
                     need(sn > 0.0 && ((s1 / sn) - sp).abs() <= 1e-9 * sp, format!("seed003: inconsistent SP {l}"));
                     need(l["rays"].as_u64().is_some_and(|n| n > 0), format!("seed003: no rays {l}"));
@@ -85,10 +89,18 @@ fn check_report(r: &Value) -> Vec<String> {
                     let v = run[series].as_array().cloned().unwrap_or_default();
                     need(
                         v.len() == frames && v.iter().all(|x| num(x) >= 0.0),
-                        format!("dynamic {} {}: {series} has {} of {frames} frames", run["scene"], run["accel"], v.len()),
+                        format!(
+                            "dynamic {} {}: {series} has {} of {frames} frames",
+                            run["scene"],
+                            run["accel"],
+                            v.len()
+                        ),
                     );
                 }
-                need(run["verified"].as_u64().is_some_and(|n| n > 0), format!("dynamic {}: nothing verified", run["accel"]));
+                need(
+                    run["verified"].as_u64().is_some_and(|n| n > 0),
+                    format!("dynamic {}: nothing verified", run["accel"]),
+                );
             }
         }
         _ => p.push("dynamic: missing or empty".into()),
@@ -166,7 +178,15 @@ fn quick_bench_of_every_preset_writes_a_complete_consistent_report() {
     for heading in ["## seed000", "## seed002", "## seed003", "## seed004", "## Preset dynamic"] {
         assert!(md.contains(heading), "report.md lacks {heading}");
     }
-    for chart in ["build-vs-triangles", "mrays", "seed000-sweep", "seed000-memory", "seed003-speedup", "seed004-speedup", "dynamic"] {
+    for chart in [
+        "build-vs-triangles",
+        "mrays",
+        "seed000-sweep",
+        "seed000-memory",
+        "seed003-speedup",
+        "seed004-speedup",
+        "dynamic",
+    ] {
         assert!(out.path().join(format!("{chart}.svg")).is_file(), "{chart}.svg missing");
     }
 }

@@ -5,6 +5,8 @@
 #![deny(missing_docs)]
 
 pub mod charts;
+#[cfg(feature = "compare")]
+pub mod compare;
 pub mod fonts;
 pub mod heatmap;
 pub mod line_chart;

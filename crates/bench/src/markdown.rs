@@ -46,6 +46,97 @@ pub fn num(v: f64) -> String {
     }
 }
 
+/// `value (ratio)` where a ratio ours/theirs is known.
+fn with_ratio(v: String, ratio: Option<f64>) -> String {
+    match ratio {
+        Some(r) => format!("{v} ({}×)", num(r)),
+        None => v,
+    }
+}
+
+/// The "Side by side" tables of a scene (feature `compare`): our reference structure, then
+/// every competitor with its figures and, in brackets, ours/theirs (> 1: ours is better).
+fn side_by_side(s: &mut String, sc: &crate::report::SceneResult, rays: &[String]) {
+    if sc.competitors.is_empty() {
+        return;
+    }
+    let ours_name = sc.competitors.iter().find_map(|c| c.ours.clone());
+    let _ = writeln!(
+        s,
+        "\nSide by side (same rays, same run; in brackets ours/theirs against our `{}`: \
+         > 1 means ours is better — their ms or bytes over ours, our Mrays/s over theirs):\n",
+        ours_name.as_deref().unwrap_or("bvh (not measured: no ratios)")
+    );
+    let mut head = "| library | variant | build ms | memory |".to_string();
+    let mut rule = "|---|---|--:|--:|".to_string();
+    for k in rays {
+        let _ = write!(head, " {k} Mrays/s |");
+        rule.push_str("--:|");
+    }
+    let _ = writeln!(s, "{head}\n{rule}");
+    if let Some(o) = ours_name.as_ref().and_then(|n| sc.structures.iter().find(|st| &st.accel == n)) {
+        let _ = write!(s, "| dynray (ours) | {} | {} | {} |", o.accel, num(o.build_ms), bytes(o.memory_bytes));
+        for k in rays {
+            let v = o.kinds.iter().find(|x| &x.kind == k).map(|x| num(x.mrays_per_s)).unwrap_or_else(|| "—".into());
+            let _ = write!(s, " {v} |");
+        }
+        let _ = writeln!(s);
+    }
+    for c in &sc.competitors {
+        let _ = write!(
+            s,
+            "| {} | {} | {} | {} |",
+            c.name,
+            c.variant,
+            with_ratio(num(c.build_ms), c.ours_over_theirs_build),
+            with_ratio(c.memory_bytes.map(bytes).unwrap_or_else(|| "—".into()), c.ours_over_theirs_memory)
+        );
+        for k in rays {
+            let v = match c.kinds.iter().find(|x| &x.kind == k) {
+                Some(x) => with_ratio(num(x.mrays_per_s), x.ours_over_theirs_speed),
+                None => "—".into(),
+            };
+            let _ = write!(s, " {v} |");
+        }
+        let _ = writeln!(s);
+    }
+    let _ = writeln!(
+        s,
+        "\nTheir answers against brute force on the checked rays: same triangle (shadow: same `occluded`) / \
+         checked, and the largest relative `t` difference where the triangle is the same:\n"
+    );
+    let mut head = "| library | variant |".to_string();
+    let mut rule = "|---|---|".to_string();
+    for k in rays {
+        let _ = write!(head, " {k} same / checked | {k} max rel. Δt |");
+        rule.push_str("--:|--:|");
+    }
+    let _ = writeln!(s, "{head}\n{rule}");
+    for c in &sc.competitors {
+        let _ = write!(s, "| {} | {} |", c.name, c.variant);
+        for k in rays {
+            match c.kinds.iter().find(|x| &x.kind == k) {
+                Some(x) => {
+                    let _ = write!(
+                        s,
+                        " {} / {} ({:.3} %) | {:.1e} |",
+                        thousands(x.same_answer as u64),
+                        thousands(x.checked as u64),
+                        100.0 * x.agreement,
+                        x.max_rel_t_diff
+                    );
+                }
+                None => s.push_str(" — | — |"),
+            }
+        }
+        let _ = writeln!(s);
+    }
+    let _ = writeln!(s);
+    for c in &sc.competitors {
+        let _ = writeln!(s, "- {} {}: {}", c.name, c.variant, c.describe);
+    }
+}
+
 /// The whole report as Markdown.
 pub fn render(r: &Report, png: bool) -> String {
     let mut s = String::new();
@@ -148,6 +239,7 @@ pub fn render(r: &Report, png: bool) -> String {
             }
             let _ = writeln!(s);
         }
+        side_by_side(&mut s, sc, &c.rays);
         if png {
             let maps: Vec<String> = sc
                 .structures

@@ -100,6 +100,8 @@ pub struct SceneResult {
     pub ray_counts: Vec<KindCount>,
     /// One entry per structure.
     pub structures: Vec<StructureResult>,
+    /// Other libraries on the same rays (feature `compare`; empty without it).
+    pub competitors: Vec<CompetitorResult>,
 }
 
 /// How many rays of a kind a scene has.
@@ -226,6 +228,67 @@ pub struct Ratio {
     pub candidate_value: f64,
     /// `baseline_value / candidate_value`: above 1 the candidate is faster (or smaller).
     pub speedup: f64,
+}
+
+/// Another library on one scene (feature `compare`, docs/bench.md "Side by side").
+///
+/// Every `ours_over_theirs_*` ratio reads "> 1: ours is better", against our structure
+/// named in `ours` on the same scene in the same run: build and memory are
+/// theirs / ours (their ms or bytes over ours), speed is ours / theirs (our Mrays/s over
+/// theirs). `None` when our structure was not measured or the figure is unknown.
+#[derive(Clone, Debug, Serialize)]
+pub struct CompetitorResult {
+    /// Library (`embree`, `obvhs`).
+    pub name: String,
+    /// Layout or API within the library.
+    pub variant: String,
+    /// What runs: API, layout, build settings.
+    pub describe: String,
+    /// Median build time, ms (from our mesh to a traceable structure).
+    pub build_ms: f64,
+    /// Every timed build, ms.
+    pub build_ms_runs: Vec<f64>,
+    /// Bytes the structure holds, where the library reports it or it can be computed.
+    pub memory_bytes: Option<usize>,
+    /// Our structure the ratios compare with (`bvh`), if it was measured.
+    pub ours: Option<String>,
+    /// Their build ms / our build ms (> 1: ours builds faster).
+    pub ours_over_theirs_build: Option<f64>,
+    /// Their bytes / our bytes (> 1: ours is smaller).
+    pub ours_over_theirs_memory: Option<f64>,
+    /// Per ray kind it was measured on.
+    pub kinds: Vec<CompetitorKind>,
+}
+
+/// One ray kind through a competitor, and how its answers compare with brute force's.
+#[derive(Clone, Debug, Serialize)]
+pub struct CompetitorKind {
+    /// Ray kind.
+    pub kind: String,
+    /// Rays traced.
+    pub rays: usize,
+    /// Shadow rays: true when timed with the library's own any-hit query (else its closest hit).
+    pub any_hit: bool,
+    /// Median time of the timed pass, ms.
+    pub trace_ms: f64,
+    /// Every timed pass, ms.
+    pub trace_ms_runs: Vec<f64>,
+    /// Million rays per second (rays / median time).
+    pub mrays_per_s: f64,
+    /// Rays that hit (closest hit) or were occluded (shadow).
+    pub hits: usize,
+    /// Sampled rays compared with brute force.
+    pub checked: usize,
+    /// Same triangle as brute force (a miss for a miss), or the same `occluded`.
+    pub same_answer: usize,
+    /// Both hit or both miss, whatever the triangle (shadow: = `same_answer`).
+    pub same_hit_or_miss: usize,
+    /// `same_answer / checked`.
+    pub agreement: f64,
+    /// Largest |t − t_brute| / |t_brute| over the rays with the same triangle.
+    pub max_rel_t_diff: f64,
+    /// Our Mrays/s / theirs (> 1: ours traces faster).
+    pub ours_over_theirs_speed: Option<f64>,
 }
 
 /// `--preset seed003`: the Whitted tracer on one thread against the same tracer on every

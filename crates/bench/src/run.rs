@@ -174,9 +174,7 @@ pub fn load_scenes(names: &[String], dir: Option<&Path>) -> Result<Vec<BenchScen
 /// brute force are in `Report::mismatches` (the caller decides the exit code); setup
 /// problems (unknown scene, unreadable file, unwritable folder, missing font) are errors.
 pub fn run(config: &BenchConfig) -> Result<Report> {
-    if config.png {
-        fonts::ensure_font()?;
-    }
+    fonts::ensure_font()?;
     std::fs::create_dir_all(&config.out).with_context(|| format!("cannot create {}", config.out.display()))?;
     let accels = config.accels_or_default();
     let started = machine::now_utc();
@@ -211,17 +209,20 @@ pub fn run(config: &BenchConfig) -> Result<Report> {
         standard(config, &accels, &mut report)?;
     }
     if config.presets.contains(&Preset::Seed000) {
-        let mut r = presets::study::run(config, &presets::seed000::study(config), &mut report.mismatches)?;
+        let mut r =
+            presets::study::run(config, &presets::seed000::study(config), &mut report.mismatches, &mut report.notes)?;
         r.ratios = presets::seed000::ratios(&r);
         report.seed000 = Some(r);
     }
     if config.presets.contains(&Preset::Seed002) {
-        let mut r = presets::study::run(config, &presets::seed002::study(config), &mut report.mismatches)?;
+        let mut r =
+            presets::study::run(config, &presets::seed002::study(config), &mut report.mismatches, &mut report.notes)?;
         r.ratios = presets::seed002::ratios(&r);
         report.seed002 = Some(r);
     }
     if config.presets.contains(&Preset::Seed004) {
-        let mut r = presets::study::run(config, &presets::seed004::study(config), &mut report.mismatches)?;
+        let mut r =
+            presets::study::run(config, &presets::seed004::study(config), &mut report.mismatches, &mut report.notes)?;
         r.ratios = presets::seed004::ratios(&r);
         report.seed004 = Some(r);
     }
@@ -247,8 +248,9 @@ fn standard(config: &BenchConfig, accels: &[AccelVariant], report: &mut Report) 
         time_to_image: true,
         heatmaps: config.png,
         label: "",
+        competitors: true,
     };
-    report.scenes = measure_scenes(config, &plan, &how, &mut report.mismatches)?;
+    report.scenes = measure_scenes(config, &plan, &how, &mut report.mismatches, &mut report.notes)?;
     Ok(())
 }
 
@@ -268,6 +270,8 @@ pub struct SceneMeasure {
     pub heatmaps: bool,
     /// Prefix of the progress messages (`seed000 `, …).
     pub label: &'static str,
+    /// Run the competitor libraries too (feature `compare`; the standard run only).
+    pub competitors: bool,
 }
 
 /// Measures every structure of `plan` on its scene: the same ray sets and brute-force
@@ -277,6 +281,7 @@ pub fn measure_scenes(
     plan: &[(String, Vec<AccelVariant>)],
     how: &SceneMeasure,
     mismatches: &mut Vec<Mismatch>,
+    notes: &mut Vec<String>,
 ) -> Result<Vec<SceneResult>> {
     let names: Vec<String> = plan.iter().map(|(n, _)| n.clone()).collect();
     let loaded = load_scenes(&names, config.scenes_dir.as_deref())?;
@@ -301,6 +306,7 @@ pub fn measure_scenes(
             vertices: sc.frame.mesh.vertex_count(),
             ray_counts: sets.sets.iter().map(|(k, r)| KindCount { kind: k.name().into(), rays: r.len() }).collect(),
             structures: Vec::new(),
+            competitors: Vec::new(),
         };
         for v in accels {
             // Brute force is the oracle: checking it against itself would prove nothing.
@@ -328,6 +334,22 @@ pub fn measure_scenes(
             }
             result.structures.push(res);
             bar.inc(1);
+        }
+        #[cfg(not(feature = "compare"))]
+        let _ = &notes; // the competitors' remarks are the only notes of this function
+        #[cfg(feature = "compare")]
+        if how.competitors {
+            let step = |s: &str| bar.set_message(format!("{}: {s}", sc.name));
+            result.competitors = crate::compare::measure_scene(
+                &sc.name,
+                &sc.frame.mesh,
+                &sets,
+                &expected,
+                how.repeat,
+                &result.structures,
+                notes,
+                &step,
+            )?;
         }
         out.push(result);
     }

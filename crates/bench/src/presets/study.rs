@@ -46,7 +46,12 @@ pub fn plan_or_given(
 
 /// Measures the study. `--width/--height` override the preset's size; `--quick` shrinks
 /// it to 64×48.
-pub fn run(config: &BenchConfig, study: &Study, mismatches: &mut Vec<Mismatch>) -> Result<StudyResult> {
+pub fn run(
+    config: &BenchConfig,
+    study: &Study,
+    mismatches: &mut Vec<Mismatch>,
+    notes: &mut Vec<String>,
+) -> Result<StudyResult> {
     let (width, height) = if config.size_given {
         (config.width, config.height)
     } else if config.quick {
@@ -62,8 +67,9 @@ pub fn run(config: &BenchConfig, study: &Study, mismatches: &mut Vec<Mismatch>) 
         time_to_image: study.time_to_image,
         heatmaps: false,
         label: study.preset,
+        competitors: false,
     };
-    let scenes = measure_scenes(config, &study.plan, &how, mismatches)?;
+    let scenes = measure_scenes(config, &study.plan, &how, mismatches, notes)?;
     Ok(StudyResult {
         preset: study.preset.to_string(),
         width,

@@ -1,0 +1,180 @@
+//! obvhs 0.4 (pure Rust): its CWBVH (8-wide compressed, SIMD traversal) and its BVH2,
+//! both built by its PLOC builder with the `medium_build` preset its examples use (parallel
+//! through rayon, feature `parallel`), triangles reordered into leaf order as its
+//! cornell_box example does (no index indirection while tracing); its Möller–Trumbore
+//! `Triangle::intersect`; any hit through `ray_traverse_miss`.
+
+use super::{parts, Competitor, Traceable, MISS};
+use anyhow::{bail, Result};
+use dynray_geom::{Ray, TriangleMesh};
+use obvhs::bvh2::builder::build_bvh2_from_tris;
+use obvhs::cwbvh::builder::build_cwbvh_from_tris;
+use obvhs::ray::RayHit;
+use obvhs::triangle::Triangle;
+use obvhs::BvhBuildParams;
+use std::time::Duration;
+
+/// obvhs's triangle: three `Vec3A` (16 bytes each; glam's SIMD vector, w unused).
+const _: () = assert!(std::mem::size_of::<Triangle>() == 48);
+
+/// Our mesh as obvhs triangles. `Vec3A` is `Pod` (glam's `bytemuck` feature, which
+/// obvhs enables), so four floats cast into one without naming obvhs's glam version.
+fn triangles(mesh: &TriangleMesh) -> Vec<Triangle> {
+    mesh.indices
+        .iter()
+        .map(|t| {
+            let p = |i: u32| {
+                let [x, y, z] = mesh.positions[i as usize];
+                bytemuck::cast([x, y, z, 0.0f32])
+            };
+            Triangle { v0: p(t[0]), v1: p(t[1]), v2: p(t[2]) }
+        })
+        .collect()
+}
+
+fn obvhs_ray(r: &Ray) -> obvhs::ray::Ray {
+    let (o, d, tmin, tmax) = parts(r);
+    obvhs::ray::Ray::new(
+        bytemuck::cast([o[0], o[1], o[2], 0.0f32]),
+        bytemuck::cast([d[0], d[1], d[2], 0.0f32]),
+        tmin,
+        tmax,
+    )
+}
+
+/// The triangles in the BVH's leaf order and the map back to mesh indices.
+fn reorder(tris: &[Triangle], primitive_indices: &[u32]) -> Result<(Vec<Triangle>, Vec<u32>)> {
+    if primitive_indices.len() != tris.len() {
+        // Only spatial splits (off in medium_build) make references outnumber triangles.
+        bail!("obvhs: {} primitive references for {} triangles", primitive_indices.len(), tris.len());
+    }
+    Ok((primitive_indices.iter().map(|&i| tris[i as usize]).collect(), primitive_indices.to_vec()))
+}
+
+/// A built obvhs CWBVH.
+struct Cw {
+    bvh: obvhs::cwbvh::CwBvh,
+    tris: Vec<Triangle>,
+    original: Vec<u32>,
+}
+
+impl Traceable for Cw {
+    fn memory_bytes(&self) -> Option<usize> {
+        Some(
+            std::mem::size_of_val(self.bvh.nodes.as_slice())
+                + std::mem::size_of_val(self.bvh.primitive_indices.as_slice())
+                + std::mem::size_of_val(self.tris.as_slice())
+                + std::mem::size_of_val(self.original.as_slice()),
+        )
+    }
+
+    fn closest(&self, rays: &[Ray], out: &mut [(f32, u32)]) {
+        for (r, o) in rays.iter().zip(out) {
+            let mut hit = RayHit::none();
+            *o = if r.tmin <= r.tmax
+                && self.bvh.ray_traverse(obvhs_ray(r), &mut hit, |ray, id| self.tris[id].intersect(ray))
+            {
+                (hit.t, self.original[hit.primitive_id as usize])
+            } else {
+                (f32::INFINITY, MISS)
+            };
+        }
+    }
+
+    fn has_any_hit(&self) -> bool {
+        true
+    }
+
+    fn occluded(&self, rays: &[Ray], out: &mut [bool]) {
+        for (r, o) in rays.iter().zip(out) {
+            *o = r.tmin <= r.tmax && !self.bvh.ray_traverse_miss(obvhs_ray(r), |ray, id| self.tris[id].intersect(ray));
+        }
+    }
+}
+
+/// A built obvhs BVH2.
+struct Two {
+    bvh: obvhs::bvh2::Bvh2,
+    tris: Vec<Triangle>,
+    original: Vec<u32>,
+}
+
+impl Traceable for Two {
+    fn memory_bytes(&self) -> Option<usize> {
+        Some(
+            std::mem::size_of_val(self.bvh.nodes.as_slice())
+                + std::mem::size_of_val(self.bvh.primitive_indices.as_slice())
+                + std::mem::size_of_val(self.tris.as_slice())
+                + std::mem::size_of_val(self.original.as_slice()),
+        )
+    }
+
+    fn closest(&self, rays: &[Ray], out: &mut [(f32, u32)]) {
+        for (r, o) in rays.iter().zip(out) {
+            let mut hit = RayHit::none();
+            *o = if r.tmin <= r.tmax
+                && self.bvh.ray_traverse(obvhs_ray(r), &mut hit, |ray, id| self.tris[id].intersect(ray))
+            {
+                (hit.t, self.original[hit.primitive_id as usize])
+            } else {
+                (f32::INFINITY, MISS)
+            };
+        }
+    }
+
+    fn has_any_hit(&self) -> bool {
+        true
+    }
+
+    fn occluded(&self, rays: &[Ray], out: &mut [bool]) {
+        for (r, o) in rays.iter().zip(out) {
+            *o = r.tmin <= r.tmax && !self.bvh.ray_traverse_miss(obvhs_ray(r), |ray, id| self.tris[id].intersect(ray));
+        }
+    }
+}
+
+/// `obvhs cwbvh`.
+pub struct ObvhsCwBvh;
+
+impl Competitor for ObvhsCwBvh {
+    fn name(&self) -> &'static str {
+        "obvhs"
+    }
+    fn variant(&self) -> &'static str {
+        "cwbvh"
+    }
+    fn describe(&self) -> String {
+        "obvhs 0.4 CwBvh (8-wide compressed nodes, SIMD traversal): build_cwbvh_from_tris, medium_build \
+         (PLOC + reinsertion, parallel), leaf-ordered triangles; ray_traverse / ray_traverse_miss"
+            .into()
+    }
+    fn build(&self, mesh: &TriangleMesh) -> Result<Box<dyn Traceable>> {
+        let tris = triangles(mesh);
+        let bvh = build_cwbvh_from_tris(&tris, BvhBuildParams::medium_build(), &mut Duration::default());
+        let (tris, original) = reorder(&tris, &bvh.primitive_indices)?;
+        Ok(Box::new(Cw { bvh, tris, original }))
+    }
+}
+
+/// `obvhs bvh2`.
+pub struct ObvhsBvh2;
+
+impl Competitor for ObvhsBvh2 {
+    fn name(&self) -> &'static str {
+        "obvhs"
+    }
+    fn variant(&self) -> &'static str {
+        "bvh2"
+    }
+    fn describe(&self) -> String {
+        "obvhs 0.4 Bvh2: build_bvh2_from_tris, medium_build (PLOC + reinsertion + leaf collapse, parallel), \
+         leaf-ordered triangles; ray_traverse / ray_traverse_miss"
+            .into()
+    }
+    fn build(&self, mesh: &TriangleMesh) -> Result<Box<dyn Traceable>> {
+        let tris = triangles(mesh);
+        let bvh = build_bvh2_from_tris(&tris, BvhBuildParams::medium_build(), &mut Duration::default());
+        let (tris, original) = reorder(&tris, &bvh.primitive_indices)?;
+        Ok(Box::new(Two { bvh, tris, original }))
+    }
+}
