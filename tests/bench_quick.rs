@@ -14,31 +14,26 @@ const PRESETS: [&str; 6] = ["standard", "seed000", "seed002", "seed003", "seed00
 /// Problems found in a report; empty when it is complete and consistent.
 fn check_report(r: &Value) -> Vec<String> {
     let mut p = Vec::new();
-    let mut need = |ok: bool, what: String| {
-        if !ok {
-            p.push(what);
-        }
-    };
-    need(r["schema"] == 1, "schema is not 1".into());
-    need(r["machine"]["cpu"].is_string(), "machine.cpu missing".into());
-    need(r["threads"].as_u64().is_some_and(|t| t > 0), "threads missing".into());
+    need(&mut p, r["schema"] == 1, "schema is not 1".into());
+    need(&mut p, r["machine"]["cpu"].is_string(), "machine.cpu missing".into());
+    need(&mut p, r["threads"].as_u64().is_some_and(|t| t > 0), "threads missing".into());
     for k in ["started_utc", "finished_utc", "dynray_version"] {
-        need(r[k].as_str().is_some_and(|s| !s.is_empty()), format!("{k} missing"));
+        need(&mut p, r[k].as_str().is_some_and(|s| !s.is_empty()), format!("{k} missing"));
     }
     let presets: Vec<&str> =
         r["config"]["presets"].as_array().into_iter().flatten().filter_map(Value::as_str).collect();
-    need(presets == PRESETS, format!("config.presets is {presets:?}"));
-    need(r["mismatches"].as_array().is_some_and(Vec::is_empty), "disagreements with brute force".into());
+    need(&mut p, presets == PRESETS, format!("config.presets is {presets:?}"));
+    need(&mut p, r["mismatches"].as_array().is_some_and(Vec::is_empty), "disagreements with brute force".into());
     let repeat = r["config"]["repeat"].as_u64().unwrap_or(0) as usize;
     let rays: Vec<&str> = r["config"]["rays"].as_array().into_iter().flatten().filter_map(Value::as_str).collect();
     let accels = r["config"]["accels"].as_array().map_or(0, Vec::len);
 
     let scenes = r["scenes"].as_array().cloned().unwrap_or_default();
-    need(!scenes.is_empty(), "standard: no scene".into());
+    need(&mut p, !scenes.is_empty(), "standard: no scene".into());
     for sc in &scenes {
         check_scene(sc, &rays, repeat, true, &mut p);
         let n = sc["structures"].as_array().map_or(0, Vec::len);
-        need(n == accels, format!("standard {}: {n} structures, config names {accels}", sc["name"]));
+        need(&mut p, n == accels, format!("standard {}: {n} structures, config names {accels}", sc["name"]));
     }
     for preset in ["seed000", "seed002", "seed004"] {
         let s = &r[preset];
@@ -51,31 +46,44 @@ fn check_report(r: &Value) -> Vec<String> {
             check_scene(sc, &kinds, repeat, preset == "seed000", &mut p);
         }
         let ratios = s["ratios"].as_array().cloned().unwrap_or_default();
-        need(!ratios.is_empty(), format!("{preset}: no ratio"));
+        need(&mut p, !ratios.is_empty(), format!("{preset}: no ratio"));
         for q in &ratios {
             let sc = scenes.iter().find(|sc| sc["name"] == q["scene"]);
             let has = |label: &Value| {
                 sc.and_then(|sc| sc["structures"].as_array()).is_some_and(|v| v.iter().any(|s| s["accel"] == *label))
             };
-            need(has(&q["baseline"]) && has(&q["candidate"]), format!("{preset}: ratio names unknown structures: {q}"));
+            need(
+                &mut p,
+                has(&q["baseline"]) && has(&q["candidate"]),
+                format!("{preset}: ratio names unknown structures: {q}"),
+            );
             let (b, c, x) = (num(&q["baseline_value"]), num(&q["candidate_value"]), num(&q["speedup"]));
-            need(b > 0.0 && c > 0.0 && ((b / c) - x).abs() <= 1e-9 * x, format!("{preset}: inconsistent ratio {q}"));
+            need(
+                &mut p,
+                b > 0.0 && c > 0.0 && ((b / c) - x).abs() <= 1e-9 * x,
+                format!("{preset}: inconsistent ratio {q}"),
+            );
         }
     }
     match r["seed003"]["scenes"].as_array() {
         Some(scenes) if !scenes.is_empty() => {
             for sc in scenes {
                 let levels = sc["levels"].as_array().cloned().unwrap_or_default();
-                need(levels.len() == 10, format!("seed003 {}: {} levels", sc["name"], levels.len()));
+                need(&mut p, levels.len() == 10, format!("seed003 {}: {} levels", sc["name"], levels.len()));
                 for (i, l) in levels.iter().enumerate() {
-                    need(l["level"] == i + 1, format!("seed003: level {} out of order", l["level"]));
+                    need(&mut p, l["level"] == i + 1, format!("seed003: level {} out of order", l["level"]));
                     need(
+                        &mut p,
                         l["images_identical"] == true,
                         format!("seed003 {} level {}: images differ", sc["name"], i + 1),
                     );
                     let (s1, sn, sp) = (num(&l["accel_single_ms"]), num(&l["accel_parallel_ms"]), num(&l["speedup"]));
-                    need(sn > 0.0 && ((s1 / sn) - sp).abs() <= 1e-9 * sp, format!("seed003: inconsistent SP {l}"));
-                    need(l["rays"].as_u64().is_some_and(|n| n > 0), format!("seed003: no rays {l}"));
+                    need(
+                        &mut p,
+                        sn > 0.0 && ((s1 / sn) - sp).abs() <= 1e-9 * sp,
+                        format!("seed003: inconsistent SP {l}"),
+                    );
+                    need(&mut p, l["rays"].as_u64().is_some_and(|n| n > 0), format!("seed003: no rays {l}"));
                 }
             }
         }
@@ -88,6 +96,7 @@ fn check_report(r: &Value) -> Vec<String> {
                 for series in ["rebuild_ms", "update_ms", "trace_ms", "time_to_image_ms"] {
                     let v = run[series].as_array().cloned().unwrap_or_default();
                     need(
+                        &mut p,
                         v.len() == frames && v.iter().all(|x| num(x) >= 0.0),
                         format!(
                             "dynamic {} {}: {series} has {} of {frames} frames",
@@ -98,6 +107,7 @@ fn check_report(r: &Value) -> Vec<String> {
                     );
                 }
                 need(
+                    &mut p,
                     run["verified"].as_u64().is_some_and(|n| n > 0),
                     format!("dynamic {}: nothing verified", run["accel"]),
                 );
@@ -106,6 +116,13 @@ fn check_report(r: &Value) -> Vec<String> {
         _ => p.push("dynamic: missing or empty".into()),
     }
     p
+}
+
+/// Records `what` when `ok` is false.
+fn need(p: &mut Vec<String>, ok: bool, what: String) {
+    if !ok {
+        p.push(what);
+    }
 }
 
 fn num(v: &Value) -> f64 {
@@ -174,6 +191,15 @@ fn quick_bench_of_every_preset_writes_a_complete_consistent_report() {
     let json: Value = serde_json::from_slice(&std::fs::read(out.path().join("report.json")).unwrap()).unwrap();
     let problems = check_report(&json);
     assert!(problems.is_empty(), "report.json:\n{}", problems.join("\n"));
+    // The checker sees damage to a real report: a wrong ratio, a lost ray kind, a frame.
+    let mut bad = json.clone();
+    bad["seed004"]["ratios"][0]["speedup"] = 1e9.into();
+    bad["scenes"][0]["structures"][0]["kinds"].as_array_mut().unwrap().pop();
+    bad["dynamic"]["runs"][0]["trace_ms"].as_array_mut().unwrap().pop();
+    let found = check_report(&bad).join("\n");
+    for what in ["inconsistent ratio", "ray kinds measured", "trace_ms has"] {
+        assert!(found.contains(what), "checker missed `{what}`:\n{found}");
+    }
     let md = std::fs::read_to_string(out.path().join("report.md")).unwrap();
     for heading in ["## seed000", "## seed002", "## seed003", "## seed004", "## Preset dynamic"] {
         assert!(md.contains(heading), "report.md lacks {heading}");

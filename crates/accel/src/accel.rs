@@ -32,6 +32,12 @@ pub trait Accel: Send + Sync {
     /// Brings the structure up to date with moved vertices (same triangles, same
     /// topology): a refit where the structure allows it, otherwise a rebuild.
     fn update(&mut self, mesh: &TriangleMesh) -> Result<(), BuildError>;
+
+    /// True when [`Accel::update`] refits (keeps the tree, recomputes its bounds) rather
+    /// than rebuilding, so timing a rebuild separately tells something new.
+    fn update_refits(&self) -> bool {
+        false
+    }
 }
 
 /// Shape and quality figures of a built structure.

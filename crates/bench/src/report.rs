@@ -372,8 +372,11 @@ pub struct DynamicRun {
     pub triangles: usize,
     /// Structure.
     pub accel: String,
-    /// Per frame: full rebuild, ms.
+    /// Per frame: full rebuild, ms (the update's own time when `update` is a rebuild,
+    /// i.e. when `refits` is false).
     pub rebuild_ms: Vec<f64>,
+    /// Whether `update` refits (BVH, BIH) rather than rebuilds.
+    pub refits: bool,
     /// Per frame: `update` (refit where the structure has one), ms.
     pub update_ms: Vec<f64>,
     /// Per frame: primary rays through the updated structure, ms.

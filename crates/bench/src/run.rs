@@ -103,7 +103,7 @@ impl BenchConfig {
             rays: RayKind::ALL.to_vec(),
             width: if quick { 128 } else { 640 },
             height: if quick { 96 } else { 480 },
-            repeat: if quick { 1 } else { 5 },
+            repeat: if quick { 1 } else { 3 },
             presets: vec![Preset::Standard],
             out: PathBuf::from("results"),
             quick,

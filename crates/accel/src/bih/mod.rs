@@ -149,4 +149,8 @@ impl Accel for Bih {
     fn update(&mut self, mesh: &TriangleMesh) -> Result<(), BuildError> {
         self.refit(mesh)
     }
+
+    fn update_refits(&self) -> bool {
+        true
+    }
 }

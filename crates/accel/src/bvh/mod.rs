@@ -118,6 +118,10 @@ impl Accel for Bvh {
     fn update(&mut self, mesh: &TriangleMesh) -> Result<(), BuildError> {
         self.refit(mesh)
     }
+
+    fn update_refits(&self) -> bool {
+        true
+    }
 }
 
 #[cfg(test)]
