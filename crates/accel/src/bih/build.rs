@@ -23,8 +23,9 @@
 //!
 //! Seed 000's optimisation (`BihParams::shrink`): before splitting, when the triangles'
 //! real extent on the split axis times the factor is smaller than the node box's, the
-//! node box becomes the triangles' bounding box. The triangles' bounds are known for
-//! free: the parent's partition pass accumulates them for each side.
+//! node box takes the triangles' extent on that axis (the seed's pseudo-code narrows the
+//! split axis alone, then splits again on the longest axis). The triangles' bounds are
+//! known for free: the parent's partition pass accumulates them for each side.
 //!
 //! Determinism: the partition is sequential within a node and subtrees are concatenated
 //! left then right, so the arrays are identical whatever the number of threads.
@@ -143,9 +144,13 @@ impl Ctx<'_> {
         let (axis, split, s) = loop {
             let mut axis = node_box.largest_axis();
             if let Some(f) = self.params.shrink {
-                let ext = node_box.max[axis] - node_box.min[axis];
-                if (bounds.max[axis] - bounds.min[axis]) * f < ext {
-                    node_box = bounds;
+                // The seed's step works on the split axis alone: when the triangles span
+                // less than 1/f of the node box there, that extent becomes the box's, and
+                // the node is split again (on what is then the longest axis). Each axis
+                // shrinks at most once, so this ends after three rounds.
+                while (bounds.max[axis] - bounds.min[axis]) * f < node_box.max[axis] - node_box.min[axis] {
+                    node_box.min[axis] = bounds.min[axis];
+                    node_box.max[axis] = bounds.max[axis];
                     axis = node_box.largest_axis();
                 }
             }

@@ -51,18 +51,64 @@ fn reorder(tris: &[Triangle], primitive_indices: &[u32]) -> Result<(Vec<Triangle
     Ok((primitive_indices.iter().map(|&i| tris[i as usize]).collect(), primitive_indices.to_vec()))
 }
 
-/// A built obvhs CWBVH.
-struct Cw {
-    bvh: obvhs::cwbvh::CwBvh,
+/// What the two obvhs layouts offer a traced structure: their node bytes, their leaf
+/// order, and their closest-hit and any-hit traversals over leaf-ordered triangles.
+trait Layout: Send + Sync {
+    fn node_bytes(&self) -> usize;
+    fn primitive_indices(&self) -> &[u32];
+    fn closest(&self, ray: obvhs::ray::Ray, hit: &mut RayHit, tris: &[Triangle]) -> bool;
+    fn missed(&self, ray: obvhs::ray::Ray, tris: &[Triangle]) -> bool;
+}
+
+impl Layout for obvhs::cwbvh::CwBvh {
+    fn node_bytes(&self) -> usize {
+        std::mem::size_of_val(self.nodes.as_slice())
+    }
+    fn primitive_indices(&self) -> &[u32] {
+        &self.primitive_indices
+    }
+    fn closest(&self, ray: obvhs::ray::Ray, hit: &mut RayHit, tris: &[Triangle]) -> bool {
+        self.ray_traverse(ray, hit, |ray, id| tris[id].intersect(ray))
+    }
+    fn missed(&self, ray: obvhs::ray::Ray, tris: &[Triangle]) -> bool {
+        self.ray_traverse_miss(ray, |ray, id| tris[id].intersect(ray))
+    }
+}
+
+impl Layout for obvhs::bvh2::Bvh2 {
+    fn node_bytes(&self) -> usize {
+        std::mem::size_of_val(self.nodes.as_slice())
+    }
+    fn primitive_indices(&self) -> &[u32] {
+        &self.primitive_indices
+    }
+    fn closest(&self, ray: obvhs::ray::Ray, hit: &mut RayHit, tris: &[Triangle]) -> bool {
+        self.ray_traverse(ray, hit, |ray, id| tris[id].intersect(ray))
+    }
+    fn missed(&self, ray: obvhs::ray::Ray, tris: &[Triangle]) -> bool {
+        self.ray_traverse_miss(ray, |ray, id| tris[id].intersect(ray))
+    }
+}
+
+/// A built obvhs structure with its leaf-ordered triangles and the map back to ours.
+struct Built<L> {
+    bvh: L,
     tris: Vec<Triangle>,
     original: Vec<u32>,
 }
 
-impl Traceable for Cw {
+impl<L: Layout> Built<L> {
+    fn new(tris: &[Triangle], bvh: L) -> Result<Self> {
+        let (tris, original) = reorder(tris, bvh.primitive_indices())?;
+        Ok(Self { bvh, tris, original })
+    }
+}
+
+impl<L: Layout> Traceable for Built<L> {
     fn memory_bytes(&self) -> Option<usize> {
         Some(
-            std::mem::size_of_val(self.bvh.nodes.as_slice())
-                + std::mem::size_of_val(self.bvh.primitive_indices.as_slice())
+            self.bvh.node_bytes()
+                + std::mem::size_of_val(self.bvh.primitive_indices())
                 + std::mem::size_of_val(self.tris.as_slice())
                 + std::mem::size_of_val(self.original.as_slice()),
         )
@@ -71,9 +117,7 @@ impl Traceable for Cw {
     fn closest(&self, rays: &[Ray], out: &mut [(f32, u32)]) {
         for (r, o) in rays.iter().zip(out) {
             let mut hit = RayHit::none();
-            *o = if r.tmin <= r.tmax
-                && self.bvh.ray_traverse(obvhs_ray(r), &mut hit, |ray, id| self.tris[id].intersect(ray))
-            {
+            *o = if r.tmin <= r.tmax && self.bvh.closest(obvhs_ray(r), &mut hit, &self.tris) {
                 (hit.t, self.original[hit.primitive_id as usize])
             } else {
                 (f32::INFINITY, MISS)
@@ -87,48 +131,7 @@ impl Traceable for Cw {
 
     fn occluded(&self, rays: &[Ray], out: &mut [bool]) {
         for (r, o) in rays.iter().zip(out) {
-            *o = r.tmin <= r.tmax && !self.bvh.ray_traverse_miss(obvhs_ray(r), |ray, id| self.tris[id].intersect(ray));
-        }
-    }
-}
-
-/// A built obvhs BVH2.
-struct Two {
-    bvh: obvhs::bvh2::Bvh2,
-    tris: Vec<Triangle>,
-    original: Vec<u32>,
-}
-
-impl Traceable for Two {
-    fn memory_bytes(&self) -> Option<usize> {
-        Some(
-            std::mem::size_of_val(self.bvh.nodes.as_slice())
-                + std::mem::size_of_val(self.bvh.primitive_indices.as_slice())
-                + std::mem::size_of_val(self.tris.as_slice())
-                + std::mem::size_of_val(self.original.as_slice()),
-        )
-    }
-
-    fn closest(&self, rays: &[Ray], out: &mut [(f32, u32)]) {
-        for (r, o) in rays.iter().zip(out) {
-            let mut hit = RayHit::none();
-            *o = if r.tmin <= r.tmax
-                && self.bvh.ray_traverse(obvhs_ray(r), &mut hit, |ray, id| self.tris[id].intersect(ray))
-            {
-                (hit.t, self.original[hit.primitive_id as usize])
-            } else {
-                (f32::INFINITY, MISS)
-            };
-        }
-    }
-
-    fn has_any_hit(&self) -> bool {
-        true
-    }
-
-    fn occluded(&self, rays: &[Ray], out: &mut [bool]) {
-        for (r, o) in rays.iter().zip(out) {
-            *o = r.tmin <= r.tmax && !self.bvh.ray_traverse_miss(obvhs_ray(r), |ray, id| self.tris[id].intersect(ray));
+            *o = r.tmin <= r.tmax && !self.bvh.missed(obvhs_ray(r), &self.tris);
         }
     }
 }
@@ -151,8 +154,7 @@ impl Competitor for ObvhsCwBvh {
     fn build(&self, mesh: &TriangleMesh) -> Result<Box<dyn Traceable>> {
         let tris = triangles(mesh);
         let bvh = build_cwbvh_from_tris(&tris, BvhBuildParams::medium_build(), &mut Duration::default());
-        let (tris, original) = reorder(&tris, &bvh.primitive_indices)?;
-        Ok(Box::new(Cw { bvh, tris, original }))
+        Ok(Box::new(Built::new(&tris, bvh)?))
     }
 }
 
@@ -174,7 +176,6 @@ impl Competitor for ObvhsBvh2 {
     fn build(&self, mesh: &TriangleMesh) -> Result<Box<dyn Traceable>> {
         let tris = triangles(mesh);
         let bvh = build_bvh2_from_tris(&tris, BvhBuildParams::medium_build(), &mut Duration::default());
-        let (tris, original) = reorder(&tris, &bvh.primitive_indices)?;
-        Ok(Box::new(Two { bvh, tris, original }))
+        Ok(Box::new(Built::new(&tris, bvh)?))
     }
 }

@@ -138,8 +138,31 @@ fn series(name: &str, points: Vec<(f64, f64)>, reference: bool) -> Series {
     Series { name: name.to_string(), points, reference }
 }
 
-fn panel(sc: &SceneResult, series: Vec<Series>) -> Panel {
-    Panel { title: format!("{} ({} triangles)", sc.name, thousands(sc.triangles as u64)), series }
+/// One panel per scene of the sweep, against MaxPrims.
+fn chart(
+    r: &StudyResult,
+    caption: String,
+    y_desc: &str,
+    log_y: bool,
+    series: impl Fn(&SceneResult) -> Vec<Series>,
+) -> LineChart {
+    let panels = r
+        .scenes
+        .iter()
+        .map(|sc| Panel {
+            title: format!("{} ({} triangles)", sc.name, thousands(sc.triangles as u64)),
+            series: series(sc),
+        })
+        .collect();
+    LineChart {
+        caption,
+        x_desc: "MaxPrims (triangles per leaf)".into(),
+        y_desc: y_desc.into(),
+        log2_x: false,
+        log_y,
+        y_from_zero: !log_y,
+        panels,
+    }
 }
 
 /// The leaf-size sweep: time to image and build against MaxPrims, one panel per scene,
@@ -147,61 +170,31 @@ fn panel(sc: &SceneResult, series: Vec<Series>) -> Panel {
 pub fn sweep_chart(r: &StudyResult) -> LineChart {
     let tti = |s: &StructureResult| s.time_to_image_ms;
     let build = |s: &StructureResult| Some(s.build_ms);
-    let panels = r
-        .scenes
-        .iter()
-        .map(|sc| {
-            panel(
-                sc,
-                vec![
-                    series("BIH shrink: time to image", sweep(sc, "seed_000", tti), false),
-                    series("BIH no shrink: time to image", sweep(sc, "wachter_keller", tti), false),
-                    series("BIH shrink: build", sweep(sc, "seed_000", build), false),
-                    series("BIH no shrink: build", sweep(sc, "wachter_keller", build), false),
-                    series("kd-tree Ropes++: time to image", level(sc, ROPES, tti), true),
-                    series("kd-tree Standard: time to image", level(sc, KD, tti), true),
-                ],
-            )
-        })
-        .collect();
-    LineChart {
-        caption: format!("seed000: BIH leaf-size sweep, {}x{} (lower is better)", r.width, r.height),
-        x_desc: "MaxPrims (triangles per leaf)".into(),
-        y_desc: "ms (log scale)".into(),
-        log2_x: false,
-        log_y: true,
-        y_from_zero: false,
-        panels,
-    }
+    let caption = format!("seed000: BIH leaf-size sweep, {}x{} (lower is better)", r.width, r.height);
+    chart(r, caption, "ms (log scale)", true, |sc| {
+        vec![
+            series("BIH shrink: time to image", sweep(sc, "seed_000", tti), false),
+            series("BIH no shrink: time to image", sweep(sc, "wachter_keller", tti), false),
+            series("BIH shrink: build", sweep(sc, "seed_000", build), false),
+            series("BIH no shrink: build", sweep(sc, "wachter_keller", build), false),
+            series("kd-tree Ropes++: time to image", level(sc, ROPES, tti), true),
+            series("kd-tree Standard: time to image", level(sc, KD, tti), true),
+        ]
+    })
 }
 
 /// Memory against MaxPrims, one panel per scene, the kd-trees as references.
 pub fn memory_chart(r: &StudyResult) -> LineChart {
     let mib = |s: &StructureResult| Some(s.memory_bytes as f64 / (1024.0 * 1024.0));
-    let panels = r
-        .scenes
-        .iter()
-        .map(|sc| {
-            panel(
-                sc,
-                vec![
-                    series("BIH shrink", sweep(sc, "seed_000", mib), false),
-                    series("BIH no shrink", sweep(sc, "wachter_keller", mib), false),
-                    series("kd-tree Ropes++", level(sc, ROPES, mib), true),
-                    series("kd-tree Standard", level(sc, KD, mib), true),
-                ],
-            )
-        })
-        .collect();
-    LineChart {
-        caption: "seed000: memory of the BIH by MaxPrims against the kd-trees".into(),
-        x_desc: "MaxPrims (triangles per leaf)".into(),
-        y_desc: "MiB".into(),
-        log2_x: false,
-        log_y: false,
-        y_from_zero: true,
-        panels,
-    }
+    let caption = "seed000: memory of the BIH by MaxPrims against the kd-trees".to_string();
+    chart(r, caption, "MiB", false, |sc| {
+        vec![
+            series("BIH shrink", sweep(sc, "seed_000", mib), false),
+            series("BIH no shrink", sweep(sc, "wachter_keller", mib), false),
+            series("kd-tree Ropes++", level(sc, ROPES, mib), true),
+            series("kd-tree Standard", level(sc, KD, mib), true),
+        ]
+    })
 }
 
 #[cfg(test)]
