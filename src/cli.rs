@@ -125,9 +125,13 @@ pub struct BenchArgs {
     /// Frames of the dynamic preset (default 60; --quick 4).
     #[arg(long)]
     pub frames: Option<usize>,
-    /// Write charts as SVG only and no heat maps (no font needed).
+    /// Write charts as SVG only, and no heat maps.
     #[arg(long)]
     pub no_png: bool,
+    /// Measure nothing: draw the charts and write report.md again from DIR/report.json
+    /// (after a change of layout; heat maps are kept).
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["scenes", "accels", "rays", "preset", "quick"])]
+    pub replot: Option<PathBuf>,
 }
 
 fn parse_accel(s: &str) -> Result<AccelKind, String> {

@@ -204,6 +204,16 @@ fn quick_bench_of_every_preset_writes_a_complete_consistent_report() {
     for heading in ["## seed000", "## seed002", "## seed003", "## seed004", "## Preset dynamic"] {
         assert!(md.contains(heading), "report.md lacks {heading}");
     }
+    // --replot redraws from the JSON alone.
+    std::fs::remove_file(out.path().join("report.md")).unwrap();
+    std::fs::remove_file(out.path().join("seed004-speedup.svg")).unwrap();
+    let status = Command::new(env!("CARGO_BIN_EXE_dynray"))
+        .args(["bench", "--no-png", "--replot"])
+        .arg(out.path())
+        .status()
+        .unwrap();
+    assert!(status.success(), "--replot failed: {status}");
+    assert_eq!(std::fs::read_to_string(out.path().join("report.md")).unwrap(), md, "--replot wrote another report.md");
     for chart in [
         "build-vs-triangles",
         "mrays",

@@ -9,6 +9,11 @@ use dynray_bench::{parse_accels, run::mismatch_summary, BenchConfig, Preset, Ray
 const MAX_EDGE: u32 = 1 << 14;
 
 pub fn run(a: BenchArgs) -> Result<()> {
+    if let Some(dir) = &a.replot {
+        let report = dynray_bench::run::replot(dir, !a.no_png)?;
+        eprintln!("dynray bench: charts and report.md of {} redrawn -> {}", report.started_utc, dir.display());
+        return Ok(());
+    }
     let config = config(a)?;
     let report = dynray_bench::run(&config)?;
     eprintln!(

@@ -112,7 +112,10 @@ fn write_npz(path: &Path, fill: impl FnOnce(&mut Npz) -> std::io::Result<()>) ->
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
     };
-    let tmp = tempfile::NamedTempFile::new_in(dir).with_context(|| format!("{}: cannot write here", path.display()))?;
+    // Ordinary permissions, not tempfile's private 0600: the hits are for other tools.
+    let tmp = dynray_bench::output::readable_temp_builder()
+        .tempfile_in(dir)
+        .with_context(|| format!("{}: cannot write here", path.display()))?;
     let file = tmp.reopen().with_context(|| format!("{}: cannot write", path.display()))?;
     let mut npz = npyz::npz::NpzWriter::new(BufWriter::new(file));
     fill(&mut npz).with_context(|| format!("{}: write failed", path.display()))?;

@@ -1,9 +1,9 @@
 //! Charts of a run, each written as SVG and (with a font) PNG: build time against
-//! triangle count, Mrays/s per structure and scene, the dynamic preset's per-frame
-//! update times. (The presets draw their own charts with `line_chart`.)
+//! triangle count and Mrays/s per structure and scene. (The presets draw their own charts
+//! with `line_chart`.)
 
 use crate::output::{write_atomic, write_png};
-use crate::report::{DynamicResult, Report};
+use crate::report::Report;
 use anyhow::{anyhow, Result};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -196,82 +196,6 @@ impl Chart for MraysChart<'_> {
                 .map_err(err)?;
         }
         Ok(())
-    }
-}
-
-/// Dynamic preset: per-frame update and rebuild times, one panel per scene.
-pub struct DynamicChart<'a>(pub &'a DynamicResult);
-
-impl Chart for DynamicChart<'_> {
-    fn size(&self) -> (u32, u32) {
-        (1100, 450 * self.scenes().len().max(1) as u32)
-    }
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
-        let d = self.0;
-        let scenes = self.scenes();
-        let panels = root.split_evenly((scenes.len().max(1), 1));
-        for (scene, area) in scenes.iter().zip(panels.iter()) {
-            let runs: Vec<_> = d.runs.iter().filter(|r| &r.scene == scene).collect();
-            let tri = runs.first().map(|r| r.triangles).unwrap_or(0);
-            let ymax = runs
-                .iter()
-                .flat_map(|r| r.update_ms.iter().chain(&r.rebuild_ms).chain(&r.time_to_image_ms))
-                .fold(0.0f64, |a, b| a.max(*b))
-                .max(1e-3)
-                * 1.1;
-            let mut chart = ChartBuilder::on(area)
-                .caption(format!("{scene} ({tri} triangles, every vertex moves): per-frame times"), ("sans-serif", 20))
-                .margin(14)
-                .x_label_area_size(40)
-                .y_label_area_size(70)
-                .build_cartesian_2d(0.0..d.frames.max(1) as f64, 0.0..ymax)
-                .map_err(err)?;
-            chart
-                .configure_mesh()
-                .x_desc("frame")
-                .y_desc("ms")
-                .label_style(("sans-serif", 14))
-                .axis_desc_style(("sans-serif", 16))
-                .draw()
-                .map_err(err)?;
-            for (i, r) in runs.iter().enumerate() {
-                let c = series_color(i);
-                let series = [
-                    ("update", &r.update_ms, c.stroke_width(3)),
-                    ("rebuild", &r.rebuild_ms, c.stroke_width(1)),
-                    ("update + render", &r.time_to_image_ms, c.mix(0.5).stroke_width(2)),
-                ];
-                for (what, v, style) in series {
-                    let pts: Vec<(f64, f64)> = v.iter().enumerate().map(|(f, t)| (f as f64, *t)).collect();
-                    chart
-                        .draw_series(LineSeries::new(pts, style))
-                        .map_err(err)?
-                        .label(format!("{} {what}", r.accel))
-                        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
-                }
-            }
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .label_font(("sans-serif", 14))
-                .position(SeriesLabelPosition::UpperRight)
-                .draw()
-                .map_err(err)?;
-        }
-        Ok(())
-    }
-}
-
-impl DynamicChart<'_> {
-    fn scenes(&self) -> Vec<String> {
-        let mut s: Vec<String> = Vec::new();
-        for r in &self.0.runs {
-            if !s.contains(&r.scene) {
-                s.push(r.scene.clone());
-            }
-        }
-        s
     }
 }
 

@@ -35,7 +35,9 @@ pub struct LineChart {
     pub y_desc: String,
     /// Base-2 logarithmic x axis with ticks at powers of two (resolutions).
     pub log2_x: bool,
-    /// Logarithmic y axis (values spanning decades: builds next to renders).
+    /// Logarithmic y axis for panels whose values span more than a decade (builds next to
+    /// renders); a panel with a narrower span stays linear, where a log axis would show
+    /// no tick labels. The axis description then says "(log scale)".
     pub log_y: bool,
     /// Start a linear y axis at zero (speed-ups, times); otherwise fit the data.
     pub y_from_zero: bool,
@@ -45,7 +47,7 @@ pub struct LineChart {
 
 impl Chart for LineChart {
     fn size(&self) -> (u32, u32) {
-        (520 * self.panels.len().clamp(1, 3) as u32 + 40, 560)
+        (640 * self.panels.len().clamp(1, 3) as u32 + 40, 560)
     }
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
@@ -57,6 +59,9 @@ impl Chart for LineChart {
         Ok(())
     }
 }
+
+/// Width of the legend's margin, as a fraction of the data's x range.
+const LEGEND_ROOM: f64 = 0.6;
 
 impl LineChart {
     fn draw_panel<DB: DrawingBackend>(&self, p: &Panel, area: &DrawingArea<DB, Shift>) -> Result<(), String> {
@@ -79,12 +84,15 @@ impl LineChart {
             return Ok(());
         }
         let pad = ((xmax - xmin) * 0.05).max(0.25);
-        let xr = xmin - pad..xmax + pad;
+        // The legend gets a margin of its own right of the data, so it never hides a line.
+        let xr = xmin - pad..xmax + pad + (xmax - xmin).max(1.0) * LEGEND_ROOM;
         let mut b = ChartBuilder::on(area);
         b.caption(&p.title, ("sans-serif", 17)).margin(12).x_label_area_size(45).y_label_area_size(60);
         let log2 = self.log2_x;
         let xfmt = move |v: &f64| {
-            if !log2 {
+            if *v > xmax + pad {
+                String::new() // the legend's margin
+            } else if !log2 {
                 short(*v)
             } else if (v - v.round()).abs() < 1e-6 {
                 short(2f64.powf(v.round()))
@@ -94,12 +102,12 @@ impl LineChart {
         };
         let x_labels = if log2 { (xmax - xmin).round() as usize + 1 } else { 10 };
         let panel = Panel { title: p.title.clone(), series };
-        if self.log_y {
+        if self.log_y && ymin > 0.0 && ymax / ymin > 10.0 {
             let mut chart = b.build_cartesian_2d(xr, (ymin / 1.3..ymax * 1.5).log_scale()).map_err(err)?;
             chart
                 .configure_mesh()
                 .x_desc(&self.x_desc)
-                .y_desc(&self.y_desc)
+                .y_desc(format!("{} (log scale)", self.y_desc).trim())
                 .x_labels(x_labels)
                 .x_label_formatter(&xfmt)
                 .y_label_formatter(&|v| short(*v))
@@ -132,6 +140,9 @@ fn draw_series<'a, DB: DrawingBackend + 'a, X: Ranged<ValueType = f64>, Y: Range
     p: &Panel,
 ) -> Result<(), String> {
     for (i, s) in p.series.iter().enumerate() {
+        if s.points.is_empty() {
+            continue; // nothing measured (its colour stays reserved, as in the other panels)
+        }
         let c = series_color(i);
         let style = if s.reference { c.stroke_width(1) } else { c.stroke_width(2) };
         chart

@@ -1,12 +1,12 @@
 //! Everything a bench run measured, as written to `report.json` (schema in docs/bench.md).
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Version of the JSON layout; bumped when a field changes meaning or disappears.
 pub const SCHEMA_VERSION: u32 = 1;
 
 /// A whole run.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Report {
     /// [`SCHEMA_VERSION`].
     pub schema: u32,
@@ -54,7 +54,7 @@ impl Report {
 }
 
 /// The machine.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Machine {
     /// CPU model from /proc/cpuinfo (or "unknown").
     pub cpu: String,
@@ -65,7 +65,7 @@ pub struct Machine {
 }
 
 /// The run's settings, as used.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct ConfigEcho {
     /// Image width of the ray sets and renders.
     pub width: u32,
@@ -86,7 +86,7 @@ pub struct ConfigEcho {
 }
 
 /// One scene of the standard measurements.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct SceneResult {
     /// Scene name.
     pub name: String,
@@ -105,7 +105,7 @@ pub struct SceneResult {
 }
 
 /// How many rays of a kind a scene has.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct KindCount {
     /// Ray kind.
     pub kind: String,
@@ -114,7 +114,7 @@ pub struct KindCount {
 }
 
 /// One structure on one scene.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct StructureResult {
     /// `--accels` spelling (with parameters).
     pub accel: String,
@@ -150,7 +150,7 @@ pub struct StructureResult {
 }
 
 /// One ray kind through one structure.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct KindResult {
     /// Ray kind.
     pub kind: String,
@@ -173,7 +173,7 @@ pub struct KindResult {
 }
 
 /// A disagreement with brute force.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Mismatch {
     /// Where: scene (and frame for the dynamic preset).
     pub scene: String,
@@ -193,7 +193,7 @@ pub struct Mismatch {
 
 /// A seed preset measured like the standard run (same fields per scene and structure) on
 /// the preset's scenes and structure variants, with the ratios the seed reports.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct StudyResult {
     /// Preset name (`seed000`, …).
     pub preset: String,
@@ -212,7 +212,7 @@ pub struct StudyResult {
 }
 
 /// One comparison of two structures on one scene and metric.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Ratio {
     /// Scene.
     pub scene: String,
@@ -236,7 +236,7 @@ pub struct Ratio {
 /// named in `ours` on the same scene in the same run: build and memory are
 /// theirs / ours (their ms or bytes over ours), speed is ours / theirs (our Mrays/s over
 /// theirs). `None` when our structure was not measured or the figure is unknown.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct CompetitorResult {
     /// Library (`embree`, `obvhs`).
     pub name: String,
@@ -261,7 +261,7 @@ pub struct CompetitorResult {
 }
 
 /// One ray kind through a competitor, and how its answers compare with brute force's.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct CompetitorKind {
     /// Ray kind.
     pub kind: String,
@@ -294,7 +294,7 @@ pub struct CompetitorKind {
 /// `--preset seed003`: the Whitted tracer on one thread against the same tracer on every
 /// thread (the seed's CPU-vs-GPU speed-up, SP, and efficiency, EF = SP / threads), and
 /// single-threaded brute force on scenes small enough for it.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Seed003Result {
     /// Image width used (the seed used 640).
     pub width: u32,
@@ -311,7 +311,7 @@ pub struct Seed003Result {
 }
 
 /// One scene of the seed003 preset.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Seed003Scene {
     /// Scene name.
     pub name: String,
@@ -328,7 +328,7 @@ pub struct Seed003Scene {
 
 /// One recursion level of the seed003 preset (renders with the structure prebuilt,
 /// medians of `repeat`).
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Seed003Level {
     /// Maximum ray level (1 = primary + shadow rays only).
     pub level: u32,
@@ -351,7 +351,7 @@ pub struct Seed003Level {
 }
 
 /// `--preset dynamic`: every vertex moves each frame.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct DynamicResult {
     /// Frames per scene.
     pub frames: usize,
@@ -364,7 +364,7 @@ pub struct DynamicResult {
 }
 
 /// One structure animated over one scene.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct DynamicRun {
     /// Scene name.
     pub scene: String,

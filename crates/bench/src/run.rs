@@ -362,14 +362,42 @@ pub fn file_safe(s: &str) -> String {
     s.chars().map(|c| if c.is_ascii_alphanumeric() || "-_.".contains(c) { c } else { '_' }).collect()
 }
 
+/// Draws the charts and writes report.md again from `dir/report.json` (measuring
+/// nothing): for a chart or table layout changed after a long run. Heat maps are kept as
+/// they are (their per-pixel data is not in the JSON).
+pub fn replot(dir: &Path, png: bool) -> Result<Report> {
+    let path = dir.join("report.json");
+    let text = std::fs::read(&path).with_context(|| format!("cannot read {}", path.display()))?;
+    let report: Report =
+        serde_json::from_slice(&text).with_context(|| format!("{}: not a bench report", path.display()))?;
+    if report.schema != SCHEMA_VERSION {
+        anyhow::bail!("{}: schema {} (this dynray reads {SCHEMA_VERSION})", path.display(), report.schema);
+    }
+    fonts::ensure_font()?;
+    let config = BenchConfig { out: dir.to_path_buf(), png, ..BenchConfig::new(report.config.quick) };
+    write_charts(&config, &report)?;
+    output::write_atomic(&dir.join("report.md"), markdown::render(&report, png).as_bytes())?;
+    Ok(report)
+}
+
 fn write_outputs(config: &BenchConfig, report: &Report) -> Result<()> {
+    write_charts(config, report)?;
+    let out = &config.out;
+    // The reports last: their presence means every other file is complete.
+    let json = serde_json::to_vec_pretty(report).context("report.json: serialisation failed")?;
+    output::write_atomic(&out.join("report.json"), &json)?;
+    output::write_atomic(&out.join("report.md"), markdown::render(report, config.png).as_bytes())?;
+    Ok(())
+}
+
+fn write_charts(config: &BenchConfig, report: &Report) -> Result<()> {
     let out = &config.out;
     if !report.scenes.is_empty() {
         charts::save(&charts::BuildVsTriangles(report), out, "build-vs-triangles", config.png)?;
         charts::save(&charts::MraysChart(report), out, "mrays", config.png)?;
     }
     if let Some(d) = &report.dynamic {
-        charts::save(&charts::DynamicChart(d), out, "dynamic", config.png)?;
+        charts::save(&presets::dynamic::chart(d), out, "dynamic", config.png)?;
     }
     if let Some(s) = &report.seed003 {
         charts::save(&presets::seed003::chart(s), out, "seed003-speedup", config.png)?;
@@ -381,10 +409,6 @@ fn write_outputs(config: &BenchConfig, report: &Report) -> Result<()> {
     if let Some(s) = &report.seed004 {
         charts::save(&presets::seed004::chart(s), out, "seed004-speedup", config.png)?;
     }
-    // The reports last: their presence means every other file is complete.
-    let json = serde_json::to_vec_pretty(report).context("report.json: serialisation failed")?;
-    output::write_atomic(&out.join("report.json"), &json)?;
-    output::write_atomic(&out.join("report.md"), markdown::render(report, config.png).as_bytes())?;
     Ok(())
 }
 

@@ -5,6 +5,8 @@
 //! traced and a Whitted image rendered through the updated structure, and a sample of the
 //! primary rays is checked against brute force on the moved mesh.
 
+use crate::line_chart::{LineChart, Panel, Series};
+use crate::markdown::thousands;
 use crate::measure::{ms, oracle, timed_pass, verify};
 use crate::rays::{self, RayKind, RaySets};
 use crate::report::{median, DynamicResult, DynamicRun, Mismatch};
@@ -128,6 +130,43 @@ pub fn run(config: &BenchConfig, accels: &[AccelVariant], mismatches: &mut Vec<M
     }
     bar.finish_and_clear();
     Ok(DynamicResult { frames, width, height, runs })
+}
+
+/// Time to image per frame (update + render), one line per structure, one panel per
+/// scene; thin lines: the full rebuild of the structures whose update is a refit.
+pub fn chart(d: &DynamicResult) -> LineChart {
+    let mut scenes: Vec<&str> = d.runs.iter().map(|r| r.scene.as_str()).collect();
+    scenes.dedup();
+    let frames = |v: &[f64]| v.iter().enumerate().map(|(i, &t)| ((i + 1) as f64, t)).collect();
+    let panels = scenes
+        .iter()
+        .map(|&scene| {
+            let runs: Vec<&DynamicRun> = d.runs.iter().filter(|r| r.scene == scene).collect();
+            let mut series: Vec<Series> = runs
+                .iter()
+                .map(|r| Series { name: r.accel.clone(), points: frames(&r.time_to_image_ms), reference: false })
+                .collect();
+            series.extend(runs.iter().filter(|r| r.refits).map(|r| Series {
+                name: format!("{}: full rebuild alone", r.accel),
+                points: frames(&r.rebuild_ms),
+                reference: true,
+            }));
+            let tris = runs.first().map_or(0, |r| r.triangles);
+            Panel { title: format!("{scene} ({} triangles, every vertex moves)", thousands(tris as u64)), series }
+        })
+        .collect();
+    LineChart {
+        caption: format!(
+            "dynamic: time to image per frame (update or refit + Whitted render, {}x{}; lower is better)",
+            d.width, d.height
+        ),
+        x_desc: "frame".into(),
+        y_desc: "ms".into(),
+        log2_x: false,
+        log_y: true,
+        y_from_zero: false,
+        panels,
+    }
 }
 
 #[cfg(test)]

@@ -171,7 +171,7 @@ pub fn sweep_chart(r: &StudyResult) -> LineChart {
     let tti = |s: &StructureResult| s.time_to_image_ms;
     let build = |s: &StructureResult| Some(s.build_ms);
     let caption = format!("seed000: BIH leaf-size sweep, {}x{} (lower is better)", r.width, r.height);
-    chart(r, caption, "ms (log scale)", true, |sc| {
+    chart(r, caption, "ms", true, |sc| {
         vec![
             series("BIH shrink: time to image", sweep(sc, "seed_000", tti), false),
             series("BIH no shrink: time to image", sweep(sc, "wachter_keller", tti), false),

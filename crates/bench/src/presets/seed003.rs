@@ -250,7 +250,7 @@ pub fn chart(p: &Seed003Result) -> LineChart {
             p.accel, p.width, p.height
         ),
         x_desc: "maximum recursion level".into(),
-        y_desc: "(log scale)".into(),
+        y_desc: String::new(),
         log2_x: false,
         log_y: true,
         y_from_zero: false,
