@@ -96,7 +96,7 @@ fn trace_rays_matches_between_bvh_and_brute_and_writes_npz() {
         assert!(hits > 400, "only {hits} hits");
         assert!(prim[1600] == -1 && t[1600] == f32::INFINITY, "upward ray should miss");
         assert!(prim[1601] == -1, "clipped ray should miss");
-        assert!(prim.iter().all(|&p| p >= -1 && p < 69_451));
+        assert!(prim.iter().all(|&p| (-1..69_451).contains(&p)));
         results.push((t.iter().map(|x| x.to_bits()).collect::<Vec<_>>(), prim));
     }
     assert_eq!(results[0], results[1], "bvh and brute disagree");

@@ -29,15 +29,7 @@ fn load_scene(path: &Path) -> Result<Scene> {
     Ok(dynray_scene::load_file(path)?)
 }
 
-/// Formats a count with thousands separators (`871,414`).
+/// Formats a count with thousands separators (`871,414`): the bench's formatter.
 fn thousands(n: usize) -> String {
-    let s = n.to_string();
-    let mut out = String::new();
-    for (i, c) in s.chars().enumerate() {
-        if i > 0 && (s.len() - i) % 3 == 0 {
-            out.push(',');
-        }
-        out.push(c);
-    }
-    out
+    dynray_bench::markdown::thousands(n as u64)
 }
