@@ -31,5 +31,5 @@ fn load_scene(path: &Path) -> Result<Scene> {
 
 /// Formats a count with thousands separators (`871,414`): the bench's formatter.
 fn thousands(n: usize) -> String {
-    dynray_bench::markdown::thousands(n as u64)
+    dynray_bench::format::thousands(n as u64)
 }

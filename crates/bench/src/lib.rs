@@ -7,7 +7,9 @@
 pub mod charts;
 #[cfg(feature = "compare")]
 pub mod compare;
+pub mod config;
 pub mod fonts;
+pub mod format;
 pub mod heatmap;
 pub mod line_chart;
 pub mod machine;
@@ -15,14 +17,17 @@ pub mod markdown;
 pub mod measure;
 pub mod output;
 pub mod params;
+pub mod plan;
 pub mod presets;
+pub mod progress;
 pub mod rays;
 pub mod report;
 pub mod run;
 pub mod scenes;
 pub mod variant;
 
+pub use config::{BenchConfig, Preset};
 pub use rays::RayKind;
 pub use report::Report;
-pub use run::{run, BenchConfig, Preset};
+pub use run::run;
 pub use variant::{build_variant, parse_accels, AccelVariant};

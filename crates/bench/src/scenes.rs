@@ -100,6 +100,17 @@ pub fn load(name: &str, path: &Path) -> Result<BenchScene> {
     Ok(BenchScene { name: name.to_string(), path: path.to_path_buf(), frame })
 }
 
+/// Loads the scenes named in `names` (model names, files, or `demo`).
+pub fn load_scenes(names: &[String], dir: Option<&Path>) -> Result<Vec<BenchScene>> {
+    let dir = scenes_dir(dir);
+    // Resolve every name before loading any, so a typo fails at once.
+    let resolved: Vec<Option<(String, PathBuf)>> = names
+        .iter()
+        .map(|n| if n == DEMO { Ok(None) } else { resolve(n, dir.as_deref()).map(Some) })
+        .collect::<Result<_>>()?;
+    resolved.iter().map(|r| r.as_ref().map_or_else(|| Ok(demo()), |(n, p)| load(n, p))).collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

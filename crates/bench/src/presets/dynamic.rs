@@ -5,12 +5,14 @@
 //! traced and a Whitted image rendered through the updated structure, and a sample of the
 //! primary rays is checked against brute force on the moved mesh.
 
+use crate::config::BenchConfig;
+use crate::format::thousands;
 use crate::line_chart::{LineChart, Panel, Series};
-use crate::markdown::thousands;
 use crate::measure::{ms, oracle, timed_pass, verify};
+use crate::progress::progress_bar;
 use crate::rays::{self, RayKind, RaySets};
 use crate::report::{median, DynamicResult, DynamicRun, Mismatch};
-use crate::run::{load_scenes, progress_bar, BenchConfig};
+use crate::scenes::load_scenes;
 use crate::variant::AccelVariant;
 use anyhow::{Context, Result};
 use dynray_accel::{Accel, Brute};

@@ -10,11 +10,11 @@
 //! `BihParams::wachter_keller` (the node box only ever halves).
 
 use super::study::{self, param, ratio, Metric, Study};
+use crate::config::BenchConfig;
+use crate::format::{bytes, num, thousands};
 use crate::line_chart::{LineChart, Panel, Series};
-use crate::markdown::{bytes, num, thousands};
 use crate::rays::RayKind;
 use crate::report::{Ratio, SceneResult, StructureResult, StudyResult};
-use crate::run::BenchConfig;
 use std::fmt::Write;
 
 /// The seed's MaxPrims values.

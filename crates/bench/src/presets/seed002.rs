@@ -8,10 +8,10 @@
 //! among our models). Scenes given on the command line use the default depth 8.
 
 use super::study::{self, param, ratio, Metric, Study};
-use crate::markdown::{bytes, num, thousands};
+use crate::config::BenchConfig;
+use crate::format::{bytes, num, thousands};
 use crate::rays::RayKind;
 use crate::report::{Ratio, SceneResult, StructureResult, StudyResult};
-use crate::run::BenchConfig;
 use std::fmt::Write;
 
 const BVH: &str = "bvh";

@@ -10,11 +10,13 @@
 //! row of its Table 4.8); levels 2–10 are Whitted ray tracing with that maximum recursion
 //! level. Every render of a level must produce the same image.
 
+use crate::config::BenchConfig;
+use crate::format::{num, thousands};
 use crate::line_chart::{LineChart, Panel, Series};
-use crate::markdown::{num, thousands};
 use crate::measure::ms;
+use crate::progress::progress_bar;
 use crate::report::{median, Mismatch, Seed003Level, Seed003Result, Seed003Scene};
-use crate::run::{load_scenes, progress_bar, BenchConfig};
+use crate::scenes::load_scenes;
 use crate::variant::AccelVariant;
 use anyhow::{Context, Result};
 use dynray_accel::{Accel, Brute};

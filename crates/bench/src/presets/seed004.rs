@@ -9,11 +9,11 @@
 //! Armadillo's size). Both structures are centred on the camera, as in the seed.
 
 use super::study::{self, ratio, Metric, Study};
+use crate::config::BenchConfig;
+use crate::format::{num, thousands};
 use crate::line_chart::{LineChart, Panel, Series};
-use crate::markdown::{num, thousands};
 use crate::rays::RayKind;
 use crate::report::{Ratio, SceneResult, StudyResult};
-use crate::run::BenchConfig;
 use std::fmt::Write;
 
 /// A-buffer resolutions (pixels per cube-face side).
@@ -121,8 +121,8 @@ pub fn markdown(r: &StudyResult, png: bool, s: &mut String) {
                 " {} / {} | {} / {} |",
                 num(p.build_ms),
                 num(t.build_ms),
-                crate::markdown::bytes(p.memory_bytes),
-                crate::markdown::bytes(t.memory_bytes)
+                crate::format::bytes(p.memory_bytes),
+                crate::format::bytes(t.memory_bytes)
             );
         }
     }

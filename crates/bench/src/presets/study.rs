@@ -1,9 +1,10 @@
 //! What the seed000, seed002 and seed004 presets share: a plan of scenes and structure
 //! variants measured like the standard run, then ratios between chosen pairs.
 
+use crate::config::BenchConfig;
+use crate::plan::{measure_scenes, SceneMeasure};
 use crate::rays::RayKind;
 use crate::report::{Mismatch, Ratio, SceneResult, StructureResult, StudyResult};
-use crate::run::{measure_scenes, BenchConfig, SceneMeasure};
 use crate::variant::{parse_accels, AccelVariant};
 use anyhow::Result;
 
