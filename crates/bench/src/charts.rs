@@ -2,9 +2,12 @@
 //! triangle count and Mrays/s per structure and scene. (The presets draw their own charts
 //! with `line_chart`.)
 
+use crate::legend::{self, Entry, Swatch};
 use crate::output::{write_atomic, write_png};
 use crate::report::Report;
 use anyhow::{anyhow, Result};
+use plotters::coord::ranged1d::{DefaultFormatting, KeyPointHint};
+use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
@@ -59,9 +62,13 @@ pub struct BuildVsTriangles<'a>(pub &'a Report);
 
 impl Chart for BuildVsTriangles<'_> {
     fn size(&self) -> (u32, u32) {
-        (900, 600)
+        (760 + legend::width(&accel_legend(self.0, Swatch::Line)), 600)
     }
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
+        let entries = accel_legend(self.0, Swatch::Line);
+        let (root, strip) = root.split_horizontally(root.dim_in_pixel().0.saturating_sub(legend::width(&entries)));
+        legend::draw(&strip, &entries, 70)?;
+        let root = &root;
         let scenes = &self.0.scenes;
         let accels: Vec<String> = self.0.config.accels.clone();
         let pts = |a: &str| -> Vec<(f64, f64)> {
@@ -96,21 +103,9 @@ impl Chart for BuildVsTriangles<'_> {
             let c = series_color(i);
             let mut p = pts(a);
             p.sort_by(|a, b| a.0.total_cmp(&b.0));
-            chart
-                .draw_series(LineSeries::new(p.clone(), c.stroke_width(2)))
-                .map_err(err)?
-                .label(a.as_str())
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(3)));
+            chart.draw_series(LineSeries::new(p.clone(), c.stroke_width(2))).map_err(err)?;
             chart.draw_series(p.into_iter().map(|q| Circle::new(q, 4, c.filled()))).map_err(err)?;
         }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 16))
-            .position(SeriesLabelPosition::UpperLeft)
-            .draw()
-            .map_err(err)?;
         Ok(())
     }
 }
@@ -119,19 +114,24 @@ impl Chart for BuildVsTriangles<'_> {
 pub struct MraysChart<'a>(pub &'a Report);
 
 impl Chart for MraysChart<'_> {
+    /// One full-width panel per ray kind, so each scene's group of bars has room for its
+    /// name (two columns of panels crowded eight scene names into overlapping labels).
     fn size(&self) -> (u32, u32) {
-        (1200, 900)
+        let rows = self.0.config.rays.len().max(1) as u32;
+        (1260 + legend::width(&accel_legend(self.0, Swatch::Bar)), 60 + 320 * rows)
     }
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
         let r = self.0;
         let title = format!("Throughput (Mrays/s, {} threads, higher is better)", r.threads);
         let root = root.titled(&title, ("sans-serif", 26)).map_err(err)?;
+        let entries = accel_legend(r, Swatch::Bar);
+        let (root, strip) = root.split_horizontally(root.dim_in_pixel().0.saturating_sub(legend::width(&entries)));
+        legend::draw(&strip, &entries, 50)?;
         let kinds = &r.config.rays;
-        let cols = if kinds.len() > 1 { 2 } else { 1 };
-        let rows = kinds.len().div_ceil(cols).max(1);
-        let panels = root.split_evenly((rows, cols));
+        let panels = root.split_evenly((kinds.len().max(1), 1));
         let accels = &r.config.accels;
         let ns = r.scenes.len().max(1);
+        let names: Vec<String> = r.scenes.iter().map(|s| s.name.clone()).collect();
         for (kind, area) in kinds.iter().zip(panels.iter()) {
             let value = |si: usize, a: &str| -> f64 {
                 r.scenes[si]
@@ -146,28 +146,22 @@ impl Chart for MraysChart<'_> {
                 .flat_map(|si| accels.iter().map(move |a| value(si, a)))
                 .fold(0.0f64, f64::max)
                 .max(1e-6)
-                * 1.15;
+                * 1.1;
+            // A label at the centre of each scene's group of bars, and nowhere else.
+            let centres: Vec<f64> = (0..ns).map(|i| i as f64 + 0.5).collect();
             let mut chart = ChartBuilder::on(area)
                 .caption(format!("{kind} rays"), ("sans-serif", 20))
                 .margin(12)
-                .x_label_area_size(40)
+                .x_label_area_size(32)
                 .y_label_area_size(70)
-                .build_cartesian_2d(0.0..ns as f64, 0.0..ymax)
+                .build_cartesian_2d(TickedAxis::new(0.0..ns as f64, centres), 0.0..ymax)
                 .map_err(err)?;
-            let names: Vec<String> = r.scenes.iter().map(|s| s.name.clone()).collect();
             chart
                 .configure_mesh()
                 .disable_x_mesh()
-                .x_labels(ns * 2 + 1)
-                .x_label_formatter(&|x| {
-                    let i = x.floor() as usize;
-                    if (x - x.floor() - 0.5).abs() < 1e-6 && i < names.len() {
-                        names[i].clone()
-                    } else {
-                        String::new()
-                    }
-                })
+                .x_label_formatter(&|x| names.get(x.floor() as usize).cloned().unwrap_or_default())
                 .y_desc("Mrays/s")
+                .y_label_formatter(&|v| short(*v))
                 .label_style(("sans-serif", 14))
                 .axis_desc_style(("sans-serif", 16))
                 .draw()
@@ -180,22 +174,51 @@ impl Chart for MraysChart<'_> {
                     let x = si as f64 + 0.1 + ai as f64 * w;
                     Rectangle::new([(x, 0.0), (x + w * 0.92, value(si, a))], c.filled())
                 });
-                chart
-                    .draw_series(bars)
-                    .map_err(err)?
-                    .label(a.as_str())
-                    .legend(move |(x, y)| Rectangle::new([(x, y - 6), (x + 14, y + 6)], c.filled()));
+                chart.draw_series(bars).map_err(err)?;
             }
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .label_font(("sans-serif", 14))
-                .position(SeriesLabelPosition::UpperRight)
-                .draw()
-                .map_err(err)?;
         }
         Ok(())
+    }
+}
+
+/// The run's structures, in colour order, as legend entries.
+fn accel_legend(r: &Report, swatch: Swatch) -> Vec<Entry> {
+    let e = |(i, a): (usize, &String)| Entry { name: a.clone(), color: series_color(i), swatch };
+    r.config.accels.iter().enumerate().map(e).collect()
+}
+
+/// A linear `f64` axis whose ticks are given: labels sit exactly at a sweep's values or at
+/// the centre of a bar group. (plotters' `with_key_points` does this for integer axes, but
+/// over `f64` it loses the label formatter `configure_mesh` needs.)
+pub struct TickedAxis {
+    inner: RangedCoordf64,
+    ticks: Vec<f64>,
+}
+
+impl TickedAxis {
+    /// `range` with tick marks and labels at `ticks` (and no light grid lines).
+    pub fn new(range: std::ops::Range<f64>, ticks: Vec<f64>) -> Self {
+        TickedAxis { inner: range.into(), ticks }
+    }
+}
+
+impl Ranged for TickedAxis {
+    type ValueType = f64;
+    // Labels come from the chart's own formatter; the default (Debug) is never shown.
+    type FormatOption = DefaultFormatting;
+
+    fn range(&self) -> std::ops::Range<f64> {
+        self.inner.range()
+    }
+    fn map(&self, value: &f64, limit: (i32, i32)) -> i32 {
+        self.inner.map(value, limit)
+    }
+    fn key_points<H: KeyPointHint>(&self, hint: H) -> Vec<f64> {
+        if hint.weight().allow_light_points() {
+            Vec::new()
+        } else {
+            self.ticks.clone()
+        }
     }
 }
 

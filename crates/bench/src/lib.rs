@@ -11,6 +11,7 @@ pub mod config;
 pub mod fonts;
 pub mod format;
 pub mod heatmap;
+pub mod legend;
 pub mod line_chart;
 pub mod machine;
 pub mod markdown;

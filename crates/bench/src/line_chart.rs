@@ -1,12 +1,13 @@
 //! A generic chart of line series in side-by-side panels (one panel per scene, say), for
 //! the presets' sweeps: seed 000's leaf-size sweep, seed 004's speed-up by resolution.
 
-use crate::charts::{err, series_color, short, Chart};
+use crate::charts::{err, series_color, short, Chart, TickedAxis};
+use crate::legend::{self, Entry, Swatch};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-/// One line: a name, its points, and whether it is a reference level (drawn dashed-looking
-/// as a thin line without markers).
+/// One line: a name, its points, and whether it is a reference level (drawn as a thin line
+/// without markers).
 pub struct Series {
     /// Legend text.
     pub name: String,
@@ -47,12 +48,17 @@ pub struct LineChart {
 
 impl Chart for LineChart {
     fn size(&self) -> (u32, u32) {
-        (640 * self.panels.len().clamp(1, 3) as u32 + 40, 560)
+        (620 * self.panels.len().clamp(1, 3) as u32 + 40 + legend::width(&self.legend()), 560)
     }
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
         let body = root.titled(&self.caption, ("sans-serif", 22)).map_err(err)?;
-        let areas = body.split_evenly((1, self.panels.len().max(1)));
+        let entries = self.legend();
+        let legend_w = legend::width(&entries);
+        let (plots, strip) = body.split_horizontally(body.dim_in_pixel().0.saturating_sub(legend_w));
+        // The first row sits level with the top of the plots (below the panel titles).
+        legend::draw(&strip, &entries, 50)?;
+        let areas = plots.split_evenly((1, self.panels.len().max(1)));
         for (panel, area) in self.panels.iter().zip(&areas) {
             self.draw_panel(panel, area)?;
         }
@@ -60,10 +66,38 @@ impl Chart for LineChart {
     }
 }
 
-/// Width of the legend's margin, as a fraction of the data's x range.
-const LEGEND_ROOM: f64 = 0.6;
+/// X ticks: every distinct x when there are few (a sweep's MaxPrims, a resolution, a
+/// level), else about eight at a round step.
+fn x_ticks(xs: &[f64], xmin: f64, xmax: f64) -> Vec<f64> {
+    let mut d: Vec<f64> = xs.to_vec();
+    d.sort_by(f64::total_cmp);
+    d.dedup_by(|a, b| (*a - *b).abs() <= 1e-9 * b.abs().max(1.0));
+    if d.len() <= 16 {
+        return d;
+    }
+    let raw = (xmax - xmin) / 8.0;
+    let mag = 10f64.powf(raw.log10().floor());
+    let step = [1.0, 2.0, 5.0, 10.0].iter().map(|m| m * mag).find(|s| *s >= raw).unwrap_or(10.0 * mag);
+    let first = (xmin / step).ceil() as i64;
+    let last = (xmax / step).floor() as i64;
+    (first..=last).map(|k| k as f64 * step).collect()
+}
 
 impl LineChart {
+    /// One legend for every panel: series at the same position are the same thing in
+    /// every panel (that is what gives them the same colour), so the entry at position `i`
+    /// is the first panel's series `i` that has points.
+    fn legend(&self) -> Vec<Entry> {
+        let n = self.panels.iter().map(|p| p.series.len()).max().unwrap_or(0);
+        (0..n)
+            .filter_map(|i| {
+                let s = self.panels.iter().filter_map(|p| p.series.get(i)).find(|s| !s.points.is_empty())?;
+                let swatch = if s.reference { Swatch::Reference } else { Swatch::Line };
+                Some(Entry { name: s.name.clone(), color: series_color(i), swatch })
+            })
+            .collect()
+    }
+
     fn draw_panel<DB: DrawingBackend>(&self, p: &Panel, area: &DrawingArea<DB, Shift>) -> Result<(), String> {
         // A log2 x axis is drawn as a linear axis over log2(x), labelled 2^k.
         let tx = |x: f64| if self.log2_x { x.max(1e-300).log2() } else { x };
@@ -83,24 +117,13 @@ impl LineChart {
         if xmin > xmax {
             return Ok(());
         }
-        let pad = ((xmax - xmin) * 0.05).max(0.25);
-        // The legend gets a margin of its own right of the data, so it never hides a line.
-        let xr = xmin - pad..xmax + pad + (xmax - xmin).max(1.0) * LEGEND_ROOM;
+        let xs: Vec<f64> = pts().map(|(x, _)| x).collect();
+        let pad = ((xmax - xmin) * 0.04).max(0.25);
+        let xr = TickedAxis::new(xmin - pad..xmax + pad, x_ticks(&xs, xmin, xmax));
         let mut b = ChartBuilder::on(area);
         b.caption(&p.title, ("sans-serif", 17)).margin(12).x_label_area_size(45).y_label_area_size(60);
         let log2 = self.log2_x;
-        let xfmt = move |v: &f64| {
-            if *v > xmax + pad {
-                String::new() // the legend's margin
-            } else if !log2 {
-                short(*v)
-            } else if (v - v.round()).abs() < 1e-6 {
-                short(2f64.powf(v.round()))
-            } else {
-                String::new()
-            }
-        };
-        let x_labels = if log2 { (xmax - xmin).round() as usize + 1 } else { 10 };
+        let xfmt = move |v: &f64| if log2 { short(2f64.powf(*v)) } else { short(*v) };
         let panel = Panel { title: p.title.clone(), series };
         if self.log_y && ymin > 0.0 && ymax / ymin > 10.0 {
             let mut chart = b.build_cartesian_2d(xr, (ymin / 1.3..ymax * 1.5).log_scale()).map_err(err)?;
@@ -108,7 +131,6 @@ impl LineChart {
                 .configure_mesh()
                 .x_desc(&self.x_desc)
                 .y_desc(format!("{} (log scale)", self.y_desc).trim())
-                .x_labels(x_labels)
                 .x_label_formatter(&xfmt)
                 .y_label_formatter(&|v| short(*v))
                 .label_style(("sans-serif", 13))
@@ -123,7 +145,6 @@ impl LineChart {
                 .configure_mesh()
                 .x_desc(&self.x_desc)
                 .y_desc(&self.y_desc)
-                .x_labels(x_labels)
                 .x_label_formatter(&xfmt)
                 .y_label_formatter(&|v| short(*v))
                 .label_style(("sans-serif", 13))
@@ -134,7 +155,7 @@ impl LineChart {
     }
 }
 
-/// The panel's lines, markers and legend on an already configured chart (linear or log x).
+/// The panel's lines and markers on an already configured chart (linear or log y).
 fn draw_series<'a, DB: DrawingBackend + 'a, X: Ranged<ValueType = f64>, Y: Ranged<ValueType = f64>>(
     chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
     p: &Panel,
@@ -145,22 +166,22 @@ fn draw_series<'a, DB: DrawingBackend + 'a, X: Ranged<ValueType = f64>, Y: Range
         }
         let c = series_color(i);
         let style = if s.reference { c.stroke_width(1) } else { c.stroke_width(2) };
-        chart
-            .draw_series(LineSeries::new(s.points.clone(), style))
-            .map_err(err)?
-            .label(s.name.as_str())
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(3)));
+        chart.draw_series(LineSeries::new(s.points.clone(), style)).map_err(err)?;
         if !s.reference {
             chart.draw_series(s.points.iter().map(|&q| Circle::new(q, 3, c.filled()))).map_err(err)?;
         }
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .label_font(("sans-serif", 12))
-        .draw()
-        .map_err(err)?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn few_distinct_x_are_the_ticks_many_get_a_round_step() {
+        assert_eq!(x_ticks(&[1.0, 5.0, 5.0, 10.0, 30.0, 1.0], 1.0, 30.0), vec![1.0, 5.0, 10.0, 30.0]);
+        let frames: Vec<f64> = (1..=60).map(f64::from).collect();
+        assert_eq!(x_ticks(&frames, 1.0, 60.0), vec![10.0, 20.0, 30.0, 40.0, 50.0, 60.0]);
+    }
 }
