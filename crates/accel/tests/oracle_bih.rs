@@ -5,7 +5,6 @@ mod support;
 
 use dynray_accel::{Accel, Bih, BihParams, BuildError};
 use dynray_geom::{Ray, TriangleMesh, Vec3};
-use rand::{rngs::SmallRng, Rng, SeedableRng};
 use support::*;
 
 fn build(mesh: &TriangleMesh, p: &BihParams) -> Bih {
@@ -120,28 +119,6 @@ fn build_is_identical_with_one_and_two_threads() {
 
 // ---- degenerate scenes: bounded build, exact answers ----
 
-/// Rays from a sphere around `c` aimed at random points of the box, plus axis-parallel
-/// ones through the box: usable where `random_rays` needs a box of non-zero size.
-fn rays_at(lo: Vec3, hi: Vec3, n: usize, seed: u64) -> Vec<Ray> {
-    let mut rng = SmallRng::seed_from_u64(seed);
-    let c = (lo + hi) * 0.5;
-    let r = (hi - lo).length().max(1.0) * 2.0;
-    let pick = |rng: &mut SmallRng| Vec3::new(rng.gen::<f32>(), rng.gen::<f32>(), rng.gen::<f32>()) * (hi - lo) + lo;
-    (0..n)
-        .map(|i| {
-            let target = pick(&mut rng);
-            if i % 4 == 3 {
-                let mut d = Vec3::ZERO;
-                d[i % 3] = 1.0;
-                Ray::new(target - d * r, d)
-            } else {
-                let o = c + Vec3::new(rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0)) * r;
-                Ray::new(o, target - o)
-            }
-        })
-        .collect()
-}
-
 fn check_degenerate(mesh: &TriangleMesh, rays: &[Ray], label: &str) -> Bih {
     for (name, p) in BihParams::presets() {
         let bih = build(mesh, &p);
@@ -152,24 +129,7 @@ fn check_degenerate(mesh: &TriangleMesh, rays: &[Ray], label: &str) -> Bih {
 
 #[test]
 fn coplanar_triangles() {
-    // A jittered 100×100 sheet of quads, all in the plane y = 0.5.
-    let mut rng = SmallRng::seed_from_u64(5);
-    let n = 100;
-    let mut pos = Vec::new();
-    for i in 0..=n {
-        for j in 0..=n {
-            pos.push([i as f32 + rng.gen_range(-0.3..0.3), 0.5, j as f32 + rng.gen_range(-0.3..0.3)]);
-        }
-    }
-    let mut idx = Vec::new();
-    let v = |i: u32, j: u32| i * (n + 1) + j;
-    for i in 0..n {
-        for j in 0..n {
-            idx.push([v(i, j), v(i + 1, j), v(i + 1, j + 1)]);
-            idx.push([v(i, j), v(i + 1, j + 1), v(i, j + 1)]);
-        }
-    }
-    let mesh = TriangleMesh::new(pos, idx);
+    let mesh = degenerate::coplanar_sheet();
     let mut rays = random_rays(&mesh, 20_000, 21);
     rays.extend(adversarial_rays(&mesh, 5_000, 22));
     check_degenerate(&mesh, &rays, "coplanar sheet");
@@ -179,7 +139,7 @@ fn coplanar_triangles() {
 fn all_triangles_in_one_point() {
     let p = [1.5f32, -2.0, 3.25];
     let mesh = TriangleMesh::new(vec![p; 3], vec![[0, 1, 2]; 10_000]);
-    let rays = rays_at(Vec3::from(p), Vec3::from(p), 2_000, 31);
+    let rays = degenerate::rays_at(Vec3::from(p), Vec3::from(p), 2_000, 31);
     let bih = check_degenerate(&mesh, &rays, "point");
     assert_eq!(bih.stats().nodes, 1, "no split can separate equal centres");
 }
@@ -197,7 +157,7 @@ fn single_triangle() {
 fn hundred_thousand_identical_triangles() {
     // Every hit ties on `t`: the lowest index (0) must win, in one bounded leaf.
     let mesh = TriangleMesh::new(vec![[0.0, 0.0, 0.0], [1.0, 0.2, 0.0], [0.3, 1.0, 0.4]], vec![[0, 1, 2]; 100_000]);
-    let rays = rays_at(Vec3::ZERO, Vec3::ONE, 300, 51);
+    let rays = degenerate::rays_at(Vec3::ZERO, Vec3::ONE, 300, 51);
     let bih = build(&mesh, &BihParams::default());
     assert_eq!(bih.stats().nodes, 1, "identical triangles stay in one leaf");
     assert_eq!(bih.memory_bytes(), 16 + 100_000 * (36 + 4));
@@ -206,23 +166,7 @@ fn hundred_thousand_identical_triangles() {
 
 #[test]
 fn million_to_one_aspect_ratio() {
-    // 20k small triangles strung along x over [0, 1e6], 1 unit thick, plus one 1000
-    // long across them. (Not 1e6 long: at such coordinates `Triangle::intersect` itself
-    // reports hits far outside the triangle's box, which no box- or plane-culling
-    // structure can reproduce; the bvh branch holds an ignored probe for dynray-geom.)
-    let mut rng = SmallRng::seed_from_u64(61);
-    let mut pos = Vec::new();
-    let mut idx = Vec::new();
-    for k in 0..20_000u32 {
-        let x = rng.gen_range(0.0..1.0e6f32);
-        let (y, z) = (rng.gen_range(0.0..1.0f32), rng.gen_range(0.0..1.0f32));
-        pos.extend([[x, y, z], [x + 0.5, y, z + 0.3], [x + 0.2, y + 0.6, z]]);
-        idx.push([3 * k, 3 * k + 1, 3 * k + 2]);
-    }
-    let base = pos.len() as u32;
-    pos.extend([[0.0, 0.5, -1.0], [1.0e3, 0.5, -1.0], [0.0, 0.5, 2.0]]);
-    idx.push([base, base + 1, base + 2]);
-    let mesh = TriangleMesh::new(pos, idx);
+    let mesh = degenerate::million_to_one_strip();
     let mut rays = random_rays(&mesh, 20_000, 62);
     rays.extend(adversarial_rays(&mesh, 5_000, 63));
     let bih = check_degenerate(&mesh, &rays, "1e6:1 strip");

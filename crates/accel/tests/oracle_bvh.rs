@@ -144,7 +144,7 @@ fn a_million_identical_triangles() {
 fn extreme_aspect_ratio() {
     // 1e6 long, 1 wide: a row of small triangles along x plus one 1000 long across them.
     // (A crossing triangle 1e6 long makes brute force itself report hits far outside that
-    // triangle's box: see `watertight_test_hits_stay_inside_the_triangle_box`.)
+    // triangle's box: see dynray-geom's `hits_stay_inside_the_triangle_box_at_large_coordinates`.)
     let mut pos = Vec::new();
     let mut idx = Vec::new();
     for i in 0..20_000u32 {
@@ -170,7 +170,7 @@ fn exponentially_spaced_triangles() {
     let mut idx = Vec::new();
     // Coordinates stay within 1e-3..1e3 and triangles 0.01 wide: wider ranges (1e-6..1e11
     // was tried) make brute force itself report hits far from the triangle, see
-    // `watertight_test_hits_stay_inside_the_triangle_box`.
+    // dynray-geom's `hits_stay_inside_the_triangle_box_at_large_coordinates`.
     for i in 0..2_000u32 {
         let x = 1.0035f32.powi(i as i32) * 1e-3;
         let s = 0.01;

@@ -3,6 +3,8 @@
 //! so every test binary (one per structure) and every later run reuses them.
 #![allow(dead_code)]
 
+pub mod degenerate;
+
 use dynray_accel::{intersect_batch, Accel, Brute};
 use dynray_geom::{Hit, Ray, TriangleMesh, Vec3};
 use rand::{rngs::SmallRng, Rng, SeedableRng};
