@@ -162,6 +162,28 @@ fn check_scene(sc: &Value, kinds: &[&str], repeat: usize, time_to_image: bool, p
             p.push(format!("{label}: {} ray kinds measured of {}", measured.len(), counts.len()));
         }
         for (k, (kind, rays)) in measured.iter().zip(&counts) {
+            // The hitting and escaping rays' mean work, weighted by their numbers, is the
+            // mean over every ray. (A shadow ray is occluded exactly when its closest-hit
+            // query, which the counted pass runs, finds a hit.)
+            let split = |w: &Value| (!w.is_null()).then(|| (num(&w["nodes"]), num(&w["triangles"])));
+            let (hw, ew) = (split(&k["hit_work"]), split(&k["escaped_work"]));
+            let n = *rays as f64;
+            let hitting = k["hits"].as_u64().map(|h| h as f64);
+            let mean = (num(&k["nodes_per_ray"]), num(&k["triangles_per_ray"]));
+            let close = |a: f64, b: f64| (a - b).abs() <= 1e-6 * b.abs().max(1.0);
+            let weighted = |h: (f64, f64), e: (f64, f64), nh: f64| {
+                close((h.0 * nh + e.0 * (n - nh)) / n, mean.0) && close((h.1 * nh + e.1 * (n - nh)) / n, mean.1)
+            };
+            let split_ok = match (hw, ew, hitting) {
+                (Some(h), Some(e), Some(nh)) => nh > 0.0 && nh < n && weighted(h, e, nh),
+                (Some(h), None, Some(nh)) => nh == n && weighted(h, (0.0, 0.0), nh),
+                (None, Some(e), Some(nh)) => nh == 0.0 && weighted((0.0, 0.0), e, nh),
+                (None, None, Some(_)) => n == 0.0,
+                _ => false,
+            };
+            if !split_ok {
+                p.push(format!("{label}: {kind} hit/escaped work does not add up to the mean: {k}"));
+            }
             let ok = k["kind"] == *kind
                 && k["rays"] == *rays
                 && k["trace_ms_runs"].as_array().is_some_and(|v| v.len() == repeat)
@@ -191,13 +213,17 @@ fn quick_bench_of_every_preset_writes_a_complete_consistent_report() {
     let json: Value = serde_json::from_slice(&std::fs::read(out.path().join("report.json")).unwrap()).unwrap();
     let problems = check_report(&json);
     assert!(problems.is_empty(), "report.json:\n{}", problems.join("\n"));
-    // The checker sees damage to a real report: a wrong ratio, a lost ray kind, a frame.
+    // The checker sees damage to a real report: a wrong ratio, a lost ray kind, a frame,
+    // hit/escaped work that no longer averages to the mean.
     let mut bad = json.clone();
     bad["seed004"]["ratios"][0]["speedup"] = 1e9.into();
     bad["scenes"][0]["structures"][0]["kinds"].as_array_mut().unwrap().pop();
     bad["dynamic"]["runs"][0]["trace_ms"].as_array_mut().unwrap().pop();
+    let primary = &mut bad["scenes"][0]["structures"][1]["kinds"][0];
+    let w = if primary["hit_work"].is_null() { "escaped_work" } else { "hit_work" };
+    primary[w]["nodes"] = (primary[w]["nodes"].as_f64().unwrap() + 1.0).into();
     let found = check_report(&bad).join("\n");
-    for what in ["inconsistent ratio", "ray kinds measured", "trace_ms has"] {
+    for what in ["inconsistent ratio", "ray kinds measured", "trace_ms has", "does not add up"] {
         assert!(found.contains(what), "checker missed `{what}`:\n{found}");
     }
     let md = std::fs::read_to_string(out.path().join("report.md")).unwrap();

@@ -2,7 +2,7 @@
 //! kind, the check against brute force, and the time to image of a Whitted render.
 
 use crate::rays::{RayKind, RaySets};
-use crate::report::{median, KindResult, Mismatch, StructureResult};
+use crate::report::{median, KindResult, Mismatch, StructureResult, Work};
 use crate::variant::AccelVariant;
 use anyhow::{Context, Result};
 use dynray_accel::{Accel, TraversalCounts};
@@ -135,23 +135,44 @@ pub fn timed_pass(accel: &dyn Accel, rays: &[Ray], shadow: bool) -> (f64, usize)
     (ms(t), black_box(hits))
 }
 
-/// Per-ray work (nodes + triangles) of a counted closest-hit pass, and the totals.
-pub fn counted_pass(accel: &dyn Accel, rays: &[Ray]) -> (Vec<u32>, TraversalCounts) {
-    let per: Vec<TraversalCounts> = rays
+/// What a counted closest-hit pass found: per-ray work (nodes + triangles, for the heat
+/// map), and the totals over every ray, over the rays that hit and over those that
+/// escaped (seed 004's worst case is the escaping ray that walks many frustums).
+pub struct CountedPass {
+    /// Nodes + triangles of each ray.
+    pub work: Vec<u32>,
+    /// Every ray.
+    pub total: TraversalCounts,
+    /// The rays that hit, and how many they are.
+    pub hit: (TraversalCounts, usize),
+    /// The rays that escaped (no hit), and how many they are.
+    pub escaped: (TraversalCounts, usize),
+}
+
+/// Counts the work of every ray through the closest-hit traversal.
+pub fn counted_pass(accel: &dyn Accel, rays: &[Ray]) -> CountedPass {
+    let per: Vec<(TraversalCounts, bool)> = rays
         .par_iter()
         .with_min_len(256)
         .map(|r| {
             let mut c = TraversalCounts::default();
-            accel.intersect_counted(r, &mut c);
-            c
+            let hit = accel.intersect_counted(r, &mut c).is_hit();
+            (c, hit)
         })
         .collect();
-    let mut total = TraversalCounts::default();
-    for c in &per {
-        total += *c;
+    let mut pass = CountedPass {
+        work: per.iter().map(|(c, _)| (c.nodes + c.triangles).min(u32::MAX as u64) as u32).collect(),
+        total: TraversalCounts::default(),
+        hit: Default::default(),
+        escaped: Default::default(),
+    };
+    for &(c, hit) in &per {
+        pass.total += c;
+        let side = if hit { &mut pass.hit } else { &mut pass.escaped };
+        side.0 += c;
+        side.1 += 1;
     }
-    let work = per.iter().map(|c| (c.nodes + c.triangles).min(u32::MAX as u64) as u32).collect();
-    (work, total)
+    pass
 }
 
 /// What [`measure`] needs besides the structure.
@@ -203,8 +224,11 @@ pub fn measure(
         }
         // Shadow rays are counted through the closest-hit traversal: the trait has no
         // counted any-hit query, so their figures are an upper bound of `occluded`'s work.
-        let (work, total) = counted_pass(accel.as_ref(), rays);
+        let counted = counted_pass(accel.as_ref(), rays);
         let n = rays.len().max(1) as f64;
+        let per_ray = |(c, n): (TraversalCounts, usize)| {
+            (n > 0).then(|| Work { nodes: c.nodes as f64 / n as f64, triangles: c.triangles as f64 / n as f64 })
+        };
         let verified = input
             .expected
             .iter()
@@ -218,13 +242,15 @@ pub fn measure(
             trace_ms,
             trace_ms_runs: runs,
             mrays_per_s: if trace_ms > 0.0 { rays.len() as f64 / trace_ms / 1e3 } else { 0.0 },
-            nodes_per_ray: total.nodes as f64 / n,
-            triangles_per_ray: total.triangles as f64 / n,
+            nodes_per_ray: counted.total.nodes as f64 / n,
+            triangles_per_ray: counted.total.triangles as f64 / n,
+            hit_work: per_ray(counted.hit),
+            escaped_work: per_ray(counted.escaped),
             hits,
             verified,
         });
         if *kind == RayKind::Primary {
-            heat = Some(work);
+            heat = Some(counted.work);
         }
     }
     drop(accel);

@@ -166,10 +166,26 @@ pub struct KindResult {
     pub nodes_per_ray: f64,
     /// Mean triangles tested per ray (counted pass).
     pub triangles_per_ray: f64,
+    /// Mean work of the rays that hit (counted pass); `null` when none did. (Absent from
+    /// reports written before it existed.)
+    #[serde(default)]
+    pub hit_work: Option<Work>,
+    /// Mean work of the rays that escaped, hitting nothing; `null` when none did.
+    #[serde(default)]
+    pub escaped_work: Option<Work>,
     /// Rays that hit (closest hit) or were occluded (shadow).
     pub hits: usize,
     /// Rays compared with brute force.
     pub verified: usize,
+}
+
+/// Mean traversal work per ray of a group of rays.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Work {
+    /// Nodes (or cells, or fragments) visited per ray.
+    pub nodes: f64,
+    /// Triangles tested per ray.
+    pub triangles: f64,
 }
 
 /// A disagreement with brute force.
