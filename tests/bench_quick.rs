@@ -89,6 +89,22 @@ fn check_report(r: &Value) -> Vec<String> {
         }
         _ => p.push("seed003: missing or empty".into()),
     }
+    // The lights and image-size sweeps (quick: 1 and 4 lights, 48² and 64²).
+    let sweeps = &r["seed003"]["sweeps"];
+    let points = |k: &str| sweeps[k].as_array().cloned().unwrap_or_default();
+    let lights: Vec<u64> = points("lights").iter().filter_map(|q| q["lights"].as_u64()).collect();
+    need(&mut p, lights == [1, 4], format!("seed003 sweeps: light counts {lights:?}"));
+    let sides: Vec<(u64, u64)> =
+        points("resolution").iter().filter_map(|q| Some((q["width"].as_u64()?, q["height"].as_u64()?))).collect();
+    need(&mut p, sides == [(48, 48), (64, 64)], format!("seed003 sweeps: image sizes {sides:?}"));
+    for q in points("lights").iter().chain(&points("resolution")) {
+        let (s1, sn, sp) = (num(&q["single_ms"]), num(&q["parallel_ms"]), num(&q["speedup"]));
+        need(&mut p, sn > 0.0 && ((s1 / sn) - sp).abs() <= 1e-9 * sp, format!("seed003 sweep: inconsistent SP {q}"));
+        need(&mut p, q["images_identical"] == true, format!("seed003 sweep: images differ {q}"));
+    }
+    // More lights, more shadow rays: every light adds one per primary hit.
+    let rays: Vec<u64> = points("lights").iter().filter_map(|q| q["rays"].as_u64()).collect();
+    need(&mut p, rays.len() == 2 && rays[0] < rays[1], format!("seed003 sweeps: rays by lights {rays:?}"));
     let frames = r["dynamic"]["frames"].as_u64().unwrap_or(0) as usize;
     match r["dynamic"]["runs"].as_array() {
         Some(runs) if !runs.is_empty() && frames > 0 => {
@@ -214,7 +230,7 @@ fn quick_bench_of_every_preset_writes_a_complete_consistent_report() {
     let problems = check_report(&json);
     assert!(problems.is_empty(), "report.json:\n{}", problems.join("\n"));
     // The checker sees damage to a real report: a wrong ratio, a lost ray kind, a frame,
-    // hit/escaped work that no longer averages to the mean.
+    // hit/escaped work that no longer averages to the mean, a lost point of a sweep.
     let mut bad = json.clone();
     bad["seed004"]["ratios"][0]["speedup"] = 1e9.into();
     bad["scenes"][0]["structures"][0]["kinds"].as_array_mut().unwrap().pop();
@@ -222,8 +238,9 @@ fn quick_bench_of_every_preset_writes_a_complete_consistent_report() {
     let primary = &mut bad["scenes"][0]["structures"][1]["kinds"][0];
     let w = if primary["hit_work"].is_null() { "escaped_work" } else { "hit_work" };
     primary[w]["nodes"] = (primary[w]["nodes"].as_f64().unwrap() + 1.0).into();
+    bad["seed003"]["sweeps"]["lights"].as_array_mut().unwrap().pop();
     let found = check_report(&bad).join("\n");
-    for what in ["inconsistent ratio", "ray kinds measured", "trace_ms has", "does not add up"] {
+    for what in ["inconsistent ratio", "ray kinds measured", "trace_ms has", "does not add up", "light counts"] {
         assert!(found.contains(what), "checker missed `{what}`:\n{found}");
     }
     let md = std::fs::read_to_string(out.path().join("report.md")).unwrap();

@@ -324,6 +324,44 @@ pub struct Seed003Result {
     pub brute_max_triangles: usize,
     /// One entry per scene.
     pub scenes: Vec<Seed003Scene>,
+    /// Ray casting against the number of lights and the image size (the seed's Tables 4.3
+    /// and 4.4); absent from reports written before it existed.
+    #[serde(default)]
+    pub sweeps: Option<Seed003Sweeps>,
+}
+
+/// The seed003 preset's two ray-casting sweeps, on one scene.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Seed003Sweeps {
+    /// Scene name.
+    pub scene: String,
+    /// One point per light count, at the preset's image size.
+    pub lights: Vec<Seed003Point>,
+    /// One point per (square) image size.
+    pub resolution: Vec<Seed003Point>,
+}
+
+/// One ray-casting render of a sweep, on 1 thread and on every thread (medians).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Seed003Point {
+    /// Lights in the scene.
+    pub lights: usize,
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Rays traced (primary + shadow).
+    pub rays: u64,
+    /// 1 thread, ms.
+    pub single_ms: f64,
+    /// Every thread, ms.
+    pub parallel_ms: f64,
+    /// `single_ms / parallel_ms`.
+    pub speedup: f64,
+    /// `speedup / threads`.
+    pub efficiency: f64,
+    /// The two images are identical pixel for pixel (they must be).
+    pub images_identical: bool,
 }
 
 /// One scene of the seed003 preset.

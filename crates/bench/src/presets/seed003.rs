@@ -10,6 +10,7 @@
 //! row of its Table 4.8); levels 2–10 are Whitted ray tracing with that maximum recursion
 //! level. Every render of a level must produce the same image.
 
+use super::seed003_sweeps as sweeps;
 use crate::config::BenchConfig;
 use crate::format::{num, thousands};
 use crate::line_chart::{LineChart, Panel, Series};
@@ -21,6 +22,7 @@ use crate::variant::AccelVariant;
 use anyhow::{Context, Result};
 use dynray_accel::{Accel, Brute};
 use dynray_render::{render, Film, RenderOptions};
+use dynray_scene::Frame;
 use std::fmt::Write;
 use std::time::Instant;
 
@@ -64,9 +66,12 @@ pub fn run(
     let single = rayon::ThreadPoolBuilder::new().num_threads(1).build().context("cannot start a 1-thread pool")?;
     let threads = rayon::current_num_threads();
     let scenes = load_scenes(&names, config.scenes_dir.as_deref())?;
-    let bar = progress_bar(config.progress, (scenes.len() * LEVELS as usize) as u64);
+    // The sweeps run on the seed's "Bolas" stand-in where it is measured, else the first scene.
+    let sweep_scene = scenes.iter().position(|s| s.name == "demo").unwrap_or(0);
+    let bar = progress_bar(config.progress, (scenes.len() * LEVELS as usize + sweeps::steps(config.quick)) as u64);
     let mut out = Vec::new();
-    for sc in &scenes {
+    let mut sweep_result = None;
+    for (si, sc) in scenes.iter().enumerate() {
         let mut frame = sc.frame.clone();
         frame.settings.width = width;
         frame.settings.height = height;
@@ -88,21 +93,7 @@ pub fn run(
         for level in 1..=LEVELS {
             bar.set_message(format!("seed003 {} level {level}", sc.name));
             frame.settings.max_recursion_level = level;
-            let timed = |a: &dyn Accel, pool: Option<&rayon::ThreadPool>| {
-                let mut runs = Vec::new();
-                let mut last = None;
-                for _ in 0..config.repeat.max(1) {
-                    let t = Instant::now();
-                    let out = match pool {
-                        Some(p) => p.install(|| render(&frame, a, &RenderOptions::default())),
-                        None => render(&frame, a, &RenderOptions::default()),
-                    };
-                    runs.push(ms(t));
-                    last = Some(out);
-                }
-                let (film, stats) = last.expect("at least one run");
-                (median(&runs), film, stats.total_rays())
-            };
+            let timed = |a: &dyn Accel, pool: Option<&rayon::ThreadPool>| timed_render(&frame, a, pool, config.repeat);
             let (single_ms, film_1, rays) = timed(accel.as_ref(), Some(&single));
             let (parallel_ms, film_n, _) = timed(accel.as_ref(), None);
             let brute_run = brute.as_ref().map(|b| timed(b, Some(&single)));
@@ -125,6 +116,21 @@ pub fn run(
             });
             bar.inc(1);
         }
+        if si == sweep_scene {
+            bar.set_message(format!("seed003 {}: lights and image size", sc.name));
+            frame.settings.max_recursion_level = 1;
+            let input = sweeps::SweepInput {
+                scene: &sc.name,
+                frame: &frame,
+                accel: accel.as_ref(),
+                label: &accel_v.label(),
+                single: &single,
+                threads,
+                repeat: config.repeat,
+                quick: config.quick,
+            };
+            sweep_result = Some(sweeps::run(&input, mismatches, &|| bar.inc(1)));
+        }
         out.push(Seed003Scene {
             name: sc.name.clone(),
             triangles: frame.mesh.triangle_count(),
@@ -141,12 +147,36 @@ pub fn run(
         threads,
         brute_max_triangles: BRUTE_MAX_TRIANGLES,
         scenes: out,
+        sweeps: sweep_result,
     })
+}
+
+/// Renders `frame` `repeat` times on `pool` (`None`: the current pool, every thread):
+/// the median time in ms, the last image and the rays it traced.
+pub(super) fn timed_render(
+    frame: &Frame,
+    accel: &dyn Accel,
+    pool: Option<&rayon::ThreadPool>,
+    repeat: usize,
+) -> (f64, Film, u64) {
+    let mut runs = Vec::new();
+    let mut last = None;
+    for _ in 0..repeat.max(1) {
+        let t = Instant::now();
+        let out = match pool {
+            Some(p) => p.install(|| render(frame, accel, &RenderOptions::default())),
+            None => render(frame, accel, &RenderOptions::default()),
+        };
+        runs.push(ms(t));
+        last = Some(out);
+    }
+    let (film, stats) = last.expect("at least one run");
+    (median(&runs), film, stats.total_rays())
 }
 
 /// Records a [`Mismatch`] when `other` differs from the parallel image `reference`;
 /// returns whether they are identical.
-fn compare(
+pub(super) fn compare(
     other: &Film,
     reference: &Film,
     scene: &str,
@@ -219,6 +249,9 @@ pub fn markdown(p: &Seed003Result, png: bool, s: &mut String) {
             );
         }
         let _ = writeln!(s);
+    }
+    if let Some(w) = &p.sweeps {
+        sweeps::markdown(w, p.threads, s);
     }
 }
 
