@@ -118,7 +118,6 @@ pub fn run(
         }
         if si == sweep_scene {
             bar.set_message(format!("seed003 {}: lights and image size", sc.name));
-            frame.settings.max_recursion_level = 1;
             let input = sweeps::SweepInput {
                 scene: &sc.name,
                 frame: &frame,

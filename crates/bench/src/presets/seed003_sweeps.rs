@@ -59,7 +59,7 @@ pub struct SweepInput<'a> {
 
 /// Measures both sweeps.
 pub fn run(input: &SweepInput<'_>, mismatches: &mut Vec<Mismatch>, step: &dyn Fn()) -> Seed003Sweeps {
-    let (lights, sides): (&[usize], &[u32]) = if input.quick { (&[1, 4], &[48, 64]) } else { (&LIGHTS, &SIDES) };
+    let (lights, sides) = points(input.quick);
     let mut frame = input.frame.clone();
     frame.settings.max_recursion_level = 1;
     let mut by_lights = Vec::new();
@@ -78,13 +78,19 @@ pub fn run(input: &SweepInput<'_>, mismatches: &mut Vec<Mismatch>, step: &dyn Fn
     Seed003Sweeps { scene: input.scene.to_string(), lights: by_lights, resolution: by_size }
 }
 
+/// Light counts and image sides of the sweeps (`--quick`: two small points each).
+fn points(quick: bool) -> (&'static [usize], &'static [u32]) {
+    if quick {
+        (&[1, 4], &[48, 64])
+    } else {
+        (&LIGHTS, &SIDES)
+    }
+}
+
 /// Steps of [`run`], for the progress bar.
 pub fn steps(quick: bool) -> usize {
-    if quick {
-        4
-    } else {
-        LIGHTS.len() + SIDES.len()
-    }
+    let (lights, sides) = points(quick);
+    lights.len() + sides.len()
 }
 
 fn point(input: &SweepInput<'_>, frame: &Frame, what: &str, mismatches: &mut Vec<Mismatch>) -> Seed003Point {
