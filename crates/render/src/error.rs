@@ -11,6 +11,14 @@ pub enum RenderError {
         /// The requested output file.
         path: PathBuf,
     },
+    /// An AOV was asked for in a format that cannot hold raw floats.
+    #[error("{path}: the {aov} AOV is written as EXR only (use an .exr output)")]
+    AovNeedsExr {
+        /// The requested output file.
+        path: PathBuf,
+        /// The AOV's name.
+        aov: &'static str,
+    },
     /// The film has no pixels, which no image format can hold.
     #[error("{path}: cannot write an empty {width}x{height} image")]
     EmptyImage {

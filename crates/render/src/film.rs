@@ -1,19 +1,29 @@
-//! The film: a width × height grid of linear RGB `f32` radiance, row-major, y down.
+//! The film: a width × height grid that accumulates radiance samples, row-major, y down.
+//!
+//! Each pixel keeps a sum of weighted samples and the sum of their weights (a box filter
+//! one pixel wide: a sample counts towards the pixel it falls in, and only that one), so
+//! anti-aliasing, progressive and multi-pass integrators all add into the same film and
+//! the image is `sum / weight`. One sample of weight 1 per pixel resolves to that sample
+//! exactly (`c / 1.0 == c`), which keeps one-sample renders bit-identical to the value
+//! the integrator returned.
 
 use dynray_scene::Color;
 
-/// Linear RGB pixels, row 0 at the top of the image.
+/// Accumulated samples, row 0 at the top of the image.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Film {
     width: u32,
     height: u32,
-    pixels: Vec<Color>,
+    sum: Vec<Color>,
+    weight: Vec<f32>,
 }
 
 impl Film {
-    /// A black film. A zero dimension gives an empty film (nothing to render or write).
+    /// An empty (black, zero-weight) film. A zero dimension gives a film without pixels
+    /// (nothing to render or write).
     pub fn new(width: u32, height: u32) -> Self {
-        Self { width, height, pixels: vec![Color::ZERO; width as usize * height as usize] }
+        let n = width as usize * height as usize;
+        Self { width, height, sum: vec![Color::ZERO; n], weight: vec![0.0; n] }
     }
 
     /// Width in pixels.
@@ -26,23 +36,74 @@ impl Film {
         self.height
     }
 
-    /// All pixels, row-major from the top-left corner.
-    pub fn pixels(&self) -> &[Color] {
-        &self.pixels
+    /// Every pixel's value (`sum / weight`, black where nothing was added), row-major
+    /// from the top-left corner.
+    pub fn pixels(&self) -> Vec<Color> {
+        self.sum.iter().zip(&self.weight).map(|(&s, &w)| resolve(s, w)).collect()
     }
 
-    /// Pixel `(x, y)`; `None` outside the film.
+    /// Pixel `(x, y)`'s value; `None` outside the film.
     pub fn get(&self, x: u32, y: u32) -> Option<Color> {
-        (x < self.width && y < self.height).then(|| self.pixels[self.index(x, y)])
+        (x < self.width && y < self.height).then(|| {
+            let i = self.index(x, y);
+            resolve(self.sum[i], self.weight[i])
+        })
     }
 
-    /// Sets pixel `(x, y)`; writes outside the film are ignored (callers iterate the
-    /// film's own bounds, so this never happens in the renderer).
+    /// Adds a sample of radiance `c` with weight `w` to pixel `(x, y)`; samples outside
+    /// the film are ignored (callers iterate the film's own bounds).
+    pub fn add(&mut self, x: u32, y: u32, c: Color, w: f32) {
+        if x < self.width && y < self.height {
+            let i = self.index(x, y);
+            self.sum[i] += c * w;
+            self.weight[i] += w;
+        }
+    }
+
+    /// Adds `sum`, the total of samples whose weights add up to `weight`, to pixel
+    /// `(x, y)` (what a tile computed for it); outside the film it is ignored.
+    pub fn add_sum(&mut self, x: u32, y: u32, sum: Color, weight: f32) {
+        if x < self.width && y < self.height {
+            let i = self.index(x, y);
+            self.sum[i] += sum;
+            self.weight[i] += weight;
+        }
+    }
+
+    /// Sets pixel `(x, y)` to exactly `c` (weight 1), discarding what it held.
     pub fn set(&mut self, x: u32, y: u32, c: Color) {
         if x < self.width && y < self.height {
             let i = self.index(x, y);
-            self.pixels[i] = c;
+            self.sum[i] = c;
+            self.weight[i] = 1.0;
         }
+    }
+
+    /// Adds every sample of `other` (a film of the same size: another pass) into this one.
+    ///
+    /// # Panics
+    /// When the sizes differ: merging films of different images is a caller bug.
+    pub fn merge(&mut self, other: &Film) {
+        assert_eq!(
+            (self.width, self.height),
+            (other.width, other.height),
+            "merging a {}x{} film into a {}x{} one",
+            other.width,
+            other.height,
+            self.width,
+            self.height
+        );
+        for (s, o) in self.sum.iter_mut().zip(&other.sum) {
+            *s += *o;
+        }
+        for (w, o) in self.weight.iter_mut().zip(&other.weight) {
+            *w += *o;
+        }
+    }
+
+    /// Total weight added to pixel `(x, y)` (the sample count for unit weights).
+    pub fn weight(&self, x: u32, y: u32) -> Option<f32> {
+        (x < self.width && y < self.height).then(|| self.weight[self.index(x, y)])
     }
 
     fn index(&self, x: u32, y: u32) -> usize {
@@ -51,7 +112,17 @@ impl Film {
 
     /// The film as 8-bit sRGB, 3 bytes per pixel, row-major: what PNG and BMP files hold.
     pub fn to_srgb8(&self) -> Vec<u8> {
-        self.pixels.iter().flat_map(|c| c.to_array().map(linear_to_srgb8)).collect()
+        self.pixels().iter().flat_map(|c| c.to_array().map(linear_to_srgb8)).collect()
+    }
+}
+
+/// A pixel's value from its sums: a division, so one unit-weight sample comes back
+/// unchanged; no weight means no sample, shown black.
+fn resolve(sum: Color, weight: f32) -> Color {
+    if weight > 0.0 {
+        sum / weight
+    } else {
+        Color::ZERO
     }
 }
 
@@ -80,6 +151,24 @@ mod tests {
         assert_eq!(linear_to_srgb8(f32::NAN), 0);
         // 18 % grey is about 118 in sRGB.
         assert_eq!(linear_to_srgb8(0.18), 118);
+    }
+
+    #[test]
+    fn samples_average_and_one_unit_sample_is_kept_bit_for_bit() {
+        let mut f = Film::new(2, 1);
+        let c = Color::new(0.1, 0.7, 1.0 / 3.0);
+        f.add(0, 0, c, 1.0);
+        assert_eq!(f.get(0, 0).unwrap().to_array().map(f32::to_bits), c.to_array().map(f32::to_bits));
+        f.add(1, 0, Color::ONE, 1.0);
+        f.add(1, 0, Color::ZERO, 1.0);
+        f.add(1, 0, Color::splat(3.0), 2.0);
+        assert_eq!(f.get(1, 0), Some(Color::splat(1.75)));
+        assert_eq!(f.weight(1, 0), Some(4.0));
+        let mut g = Film::new(2, 1);
+        g.add(0, 0, Color::ZERO, 1.0);
+        g.merge(&f);
+        assert_eq!(g.get(0, 0), Some(c * 0.5));
+        assert_eq!(Film::new(1, 1).get(0, 0), Some(Color::ZERO));
     }
 
     #[test]

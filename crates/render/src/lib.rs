@@ -1,20 +1,34 @@
-//! Rendering of dynray: cameras, the Whitted integrator of seed 003, the film and image
-//! output.
+//! Rendering of dynray: cameras, samplers, the integrators (seed 003's Whitted tracer
+//! today) behind one [`Integrator`] trait, the scene-level intersector that answers with
+//! surface hits, the accumulating film, AOVs and image output.
 //!
-//! The data path is `Frame` + an acceleration structure -> [`render`] -> [`Film`] ->
-//! [`write_image`] (PNG/BMP 8-bit sRGB, EXR linear f32, chosen by the file extension).
+//! The data path is `Frame` + an acceleration structure -> [`SceneIntersector`] (surface
+//! hits) -> an [`Integrator`] per pixel sample, driven by the one render loop
+//! [`render_with`] -> [`Film`] -> [`write_image`] (PNG/BMP 8-bit sRGB, EXR linear f32,
+//! chosen by the file extension) or [`write_aov`].
 #![deny(missing_docs)]
+#![forbid(unsafe_code)]
 
+mod aov;
 mod camera;
 mod error;
 mod film;
+mod integrator;
+mod intersector;
 mod output;
 mod render;
+mod sampler;
+mod surface;
 mod whitted;
 
+pub use aov::{Aov, AovIntegrator};
 pub use camera::CameraRays;
 pub use error::RenderError;
 pub use film::{linear_to_srgb8, Film};
-pub use output::{write_image, OutputFormat};
-pub use render::{render, RenderOptions, RenderStats};
-pub use whitted::{RayCounts, Whitted, MAX_LEVEL_CAP};
+pub use integrator::{Integrator, IntegratorKind, RayCounts};
+pub use intersector::{Geometry, SceneIntersector, TriangleGeometry};
+pub use output::{write_aov, write_image, OutputFormat};
+pub use render::{render, render_aov, render_with, RenderOptions, RenderStats};
+pub use sampler::Sampler;
+pub use surface::{GeometryRef, SurfaceHit};
+pub use whitted::{Whitted, MAX_LEVEL_CAP};

@@ -2,7 +2,8 @@
 //! file extension. The image is written to a temporary file in the target directory and
 //! renamed over the target, so a failure never leaves a partial output file.
 
-use crate::{Film, RenderError};
+use crate::{Aov, Film, RenderError};
+use exr::prelude::{Image, SpecificChannels, Vec2, WritableImage};
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -38,11 +39,49 @@ impl OutputFormat {
 /// written, an encoder failure. On any error the target is left as it was.
 pub fn write_image(film: &Film, path: &Path) -> Result<(), RenderError> {
     let format = OutputFormat::from_path(path).ok_or_else(|| RenderError::UnknownFormat { path: path.into() })?;
+    write_atomically(film, path, |w| encode(film, format, path, w))
+}
+
+/// Writes an AOV film to `path`, which must name an `.exr` file: the AOV's channels as
+/// `f32` ([`Aov::channels`]: one for depth and triangle index, three for normal and
+/// albedo), values unclamped (`+inf` depth and `-1` index on misses are kept).
+pub fn write_aov(film: &Film, aov: Aov, path: &Path) -> Result<(), RenderError> {
+    if OutputFormat::from_path(path) != Some(OutputFormat::Exr) {
+        return Err(RenderError::AovNeedsExr { path: path.into(), aov: aov.name() });
+    }
+    write_atomically(film, path, |w| {
+        let width = film.width() as usize;
+        let px = film.pixels();
+        let size = (width, film.height() as usize);
+        let names = aov.channels();
+        let result = if let [name] = names {
+            let channels = SpecificChannels::build()
+                .with_channel(*name)
+                .with_pixel_fn(|Vec2(x, y): Vec2<usize>| (px[y * width + x].x,));
+            Image::from_channels(size, channels).write().to_buffered(w)
+        } else {
+            let channels = SpecificChannels::rgb(|Vec2(x, y): Vec2<usize>| {
+                let c = px[y * width + x];
+                (c.x, c.y, c.z)
+            });
+            Image::from_channels(size, channels).write().to_buffered(w)
+        };
+        result.map_err(|e| exr_error(path, e))
+    })
+}
+
+/// Checks the film, writes it through `fill` into a temporary sibling of `path`, syncs
+/// it and renames it over `path`; on any error the target is left as it was.
+fn write_atomically(
+    film: &Film,
+    path: &Path,
+    fill: impl FnOnce(&mut BufWriter<File>) -> Result<(), RenderError>,
+) -> Result<(), RenderError> {
     if film.width() == 0 || film.height() == 0 {
         return Err(RenderError::EmptyImage { path: path.into(), width: film.width(), height: film.height() });
     }
     let tmp = temporary_name(path);
-    let result = write_to(film, format, path, &tmp)
+    let result = write_to(path, &tmp, fill)
         .and_then(|()| std::fs::rename(&tmp, path).map_err(|source| RenderError::Io { path: path.into(), source }));
     if result.is_err() {
         // Best effort: the temporary may not exist (creation failed); nothing to report.
@@ -60,22 +99,42 @@ fn temporary_name(path: &Path) -> PathBuf {
     path.with_file_name(format!(".{name}.{}.{n}.tmp", std::process::id()))
 }
 
-fn write_to(film: &Film, format: OutputFormat, path: &Path, tmp: &Path) -> Result<(), RenderError> {
+fn write_to(
+    path: &Path,
+    tmp: &Path,
+    fill: impl FnOnce(&mut BufWriter<File>) -> Result<(), RenderError>,
+) -> Result<(), RenderError> {
+    let io = |source| RenderError::Io { path: path.into(), source };
+    let mut w = BufWriter::new(File::create(tmp).map_err(io)?);
+    fill(&mut w)?;
+    // Flush and sync before the rename so the renamed file is complete.
+    w.flush().map_err(io)?;
+    w.get_ref().sync_all().map_err(io)
+}
+
+/// The exr crate's error as ours: I/O failures keep their cause.
+fn exr_error(path: &Path, e: exr::error::Error) -> RenderError {
+    match e {
+        exr::error::Error::Io(source) => RenderError::Io { path: path.into(), source },
+        e => RenderError::Encode { path: path.into(), message: e.to_string() },
+    }
+}
+
+/// Encodes the film's colour in `format` into `w`.
+fn encode(film: &Film, format: OutputFormat, path: &Path, w: &mut BufWriter<File>) -> Result<(), RenderError> {
     let io = |source| RenderError::Io { path: path.into(), source };
     let encode = |message: String| RenderError::Encode { path: path.into(), message };
-    let mut w = BufWriter::new(File::create(tmp).map_err(io)?);
     match format {
         OutputFormat::Png | OutputFormat::Bmp => {
             let f = if format == OutputFormat::Png { image::ImageFormat::Png } else { image::ImageFormat::Bmp };
             let bytes = film.to_srgb8();
-            image::write_buffer_with_format(&mut w, &bytes, film.width(), film.height(), image::ColorType::Rgb8, f)
+            image::write_buffer_with_format(w, &bytes, film.width(), film.height(), image::ColorType::Rgb8, f)
                 .map_err(|e| match e {
                     image::ImageError::IoError(source) => io(source),
                     e => encode(e.to_string()),
                 })?;
         }
         OutputFormat::Exr => {
-            use exr::prelude::*;
             let width = film.width() as usize;
             let px = film.pixels();
             let channels = SpecificChannels::rgb(|Vec2(x, y): Vec2<usize>| {
@@ -83,13 +142,8 @@ fn write_to(film: &Film, format: OutputFormat, path: &Path, tmp: &Path) -> Resul
                 (c.x, c.y, c.z)
             });
             let image = Image::from_channels((width, film.height() as usize), channels);
-            image.write().to_buffered(&mut w).map_err(|e| match e {
-                exr::error::Error::Io(source) => io(source),
-                e => encode(e.to_string()),
-            })?;
+            image.write().to_buffered(w).map_err(|e| exr_error(path, e))?;
         }
     }
-    // Flush and sync before the rename so the renamed file is complete.
-    w.flush().map_err(io)?;
-    w.get_ref().sync_all().map_err(io)
+    Ok(())
 }

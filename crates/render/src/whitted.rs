@@ -19,70 +19,60 @@
 // `!(x > y)` is deliberate throughout: it is true for NaN, which must take the safe branch.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use dynray_accel::Accel;
-use dynray_geom::{Hit, Ray, Vec3};
-use dynray_scene::{Color, Frame, LightKind, Material};
+use crate::{Integrator, RayCounts, Sampler, SceneIntersector, SurfaceHit};
+use dynray_geom::{Ray, Vec3};
+use dynray_scene::{Color, Frame, LightKind};
 
 /// Hard cap on the recursion level, whatever the settings say: each level is one stack
 /// frame of [`Whitted::trace`], and a scene file asking for a million levels between two
 /// mirrors must not overflow the thread's stack. The seed's experiments go to 10.
 pub const MAX_LEVEL_CAP: u32 = 64;
 
-/// Rays traced besides the primary ones, counted per tile and summed.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct RayCounts {
-    /// Shadow (occlusion) rays.
-    pub shadow: u64,
-    /// Reflection and refraction rays.
-    pub secondary: u64,
-}
-
-/// A Whitted ray tracer over one frame and an acceleration structure built on its mesh.
+/// A Whitted ray tracer over one frame's lights, settings and environment, tracing
+/// through the frame's scene intersector.
 pub struct Whitted<'a> {
     frame: &'a Frame,
-    accel: &'a dyn Accel,
+    scene: &'a SceneIntersector<'a>,
     /// Offset scale from the scene size, added to the per-point part in [`Self::eps`].
     eps_base: f32,
     env_ior: f32,
     max_level: u32,
     min_weight: f32,
-    fallback: Material,
 }
 
-/// What shading needs about a hit.
+/// What shading needs about a hit: the surface, with the shading normal turned to face
+/// the incoming ray (Whitted shades the side it sees).
 struct Surface<'m> {
-    /// Hit point, from the barycentrics (on the triangle's plane).
-    p: Vec3,
-    /// Unit geometric normal as wound (not flipped).
-    ng: Vec3,
+    hit: SurfaceHit<'m>,
     /// Unit shading normal, flipped to face the incoming ray.
     ns: Vec3,
-    material: &'m Material,
 }
 
 impl<'a> Whitted<'a> {
-    /// An integrator for `frame`; `accel` must be built on `frame.mesh` (triangle indices
-    /// are looked up in it). Settings and environment come from the frame.
-    pub fn new(frame: &'a Frame, accel: &'a dyn Accel) -> Self {
-        let diag = frame.mesh.bounds().extent().length();
+    /// An integrator for `frame` (lights, settings, environment) whose rays go through
+    /// `scene`, the intersector over the frame's geometry.
+    pub fn new(frame: &'a Frame, scene: &'a SceneIntersector<'a>) -> Self {
+        let diag = scene.bounds().extent().length();
         let diag = if diag.is_finite() && diag > 0.0 { diag } else { 1.0 };
         Self {
             frame,
-            accel,
+            scene,
             eps_base: diag * 1e-5,
             env_ior: sane_ior(frame.environment.ior),
             max_level: frame.settings.max_recursion_level.min(MAX_LEVEL_CAP),
             min_weight: frame.settings.min_weight,
-            fallback: Material::default(),
         }
     }
 
     /// Radiance arriving along `ray` (unit direction expected, any length works) for a
     /// ray of the given `level` (primary = 1) and `weight` (primary = 1). Never NaN.
     pub fn trace(&self, ray: &Ray, level: u32, weight: f32, counts: &mut RayCounts) -> Color {
-        let hit = self.accel.intersect(ray);
-        let c = match self.surface(ray, &hit) {
-            Some(s) => self.shade(ray, &s, level, weight, counts),
+        let c = match self.scene.intersect(ray) {
+            Some(hit) => {
+                let d = ray.dir.normalize_or_zero();
+                let ns = if hit.ns.dot(d) > 0.0 { -hit.ns } else { hit.ns };
+                self.shade(ray, &Surface { hit, ns }, level, weight, counts)
+            }
             None => self.frame.environment.background,
         };
         // A NaN from a hostile material (NaN shine, inf × 0) would spread through every
@@ -97,53 +87,18 @@ impl<'a> Whitted<'a> {
         self.eps_base + if m.is_finite() { m * 1e-5 } else { 0.0 }
     }
 
-    fn surface(&self, ray: &Ray, hit: &Hit) -> Option<Surface<'_>> {
-        if !hit.is_hit() {
-            return None;
-        }
-        let mesh = &self.frame.mesh;
-        let prim = hit.prim as usize;
-        let [i0, i1, i2] = *mesh.indices.get(prim)?;
-        let vertex = |i: u32| mesh.positions.get(i as usize).map(|p| Vec3::from_array(*p));
-        let (p0, p1, p2) = (vertex(i0)?, vertex(i1)?, vertex(i2)?);
-        let (u, v) = (hit.u, hit.v);
-        let w = 1.0 - u - v;
-        let p = p0 * w + p1 * u + p2 * v;
-        let d = ray.dir.normalize_or_zero();
-        let mut ng = (p1 - p0).cross(p2 - p0).normalize_or_zero();
-        if ng == Vec3::ZERO || !ng.is_finite() {
-            ng = -d;
-        }
-        // Vertex normals when present; zero (or unusable) ones mean "geometric normal"
-        // (see `Scene::frame`, which pads actors without normals with zeros).
-        let interpolated = mesh.normals.as_ref().and_then(|ns| {
-            let n = |i: u32| ns.get(i as usize).map(|n| Vec3::from_array(*n));
-            let s = n(i0)? * w + n(i1)? * u + n(i2)? * v;
-            (s.is_finite() && s.length_squared() > 1e-12).then(|| s.normalize())
-        });
-        let ns = interpolated.unwrap_or(ng);
-        let ns = if ns.dot(d) > 0.0 { -ns } else { ns };
-        let material = self
-            .frame
-            .materials_of
-            .get(prim)
-            .and_then(|&m| self.frame.materials.get(m as usize))
-            .unwrap_or(&self.fallback);
-        Some(Surface { p, ng, ns, material })
-    }
-
     fn shade(&self, ray: &Ray, s: &Surface<'_>, level: u32, weight: f32, counts: &mut RayCounts) -> Color {
-        let m = s.material;
+        let (m, p, ng) = (s.hit.material, s.hit.p, s.hit.ng);
         let env = &self.frame.environment;
         let d = ray.dir.normalize_or_zero();
         let view = -d;
-        let eps = self.eps(s.p);
+        let eps = self.eps(p);
         let mut c = m.ambient * env.ambient;
 
         for light in &self.frame.lights {
             let (l, tmax, att) = match light.kind {
                 LightKind::Point { position, falloff } => {
-                    let to = position - s.p;
+                    let to = position - p;
                     let dist = to.length();
                     if !(dist > 0.0 && dist.is_finite()) {
                         continue;
@@ -159,9 +114,9 @@ impl<'a> Whitted<'a> {
             }
             // Start on the light's side of the triangle's plane, so the shadow ray cannot
             // hit the triangle it leaves.
-            let side = if s.ng.dot(l) >= 0.0 { s.ng } else { -s.ng };
+            let side = if ng.dot(l) >= 0.0 { ng } else { -ng };
             counts.shadow += 1;
-            if self.accel.occluded(&Ray::with_interval(s.p + side * eps, l, 0.0, tmax)) {
+            if self.scene.occluded(&Ray::with_interval(s.hit.p + side * eps, l, 0.0, tmax)) {
                 continue;
             }
             let r = s.ns * (2.0 * ndl) - l;
@@ -176,7 +131,7 @@ impl<'a> Whitted<'a> {
         let mut mirror = m.specular;
         let mut transmitted = None;
         if m.transparency.max_element() > 0.0 {
-            let entering = s.ng.dot(d) < 0.0;
+            let entering = ng.dot(d) < 0.0;
             let ior = sane_ior(m.ior);
             let eta = if entering { self.env_ior / ior } else { ior / self.env_ior };
             match refract(d, s.ns, eta) {
@@ -210,9 +165,21 @@ impl<'a> Whitted<'a> {
         if !(w > self.min_weight) {
             return Color::ZERO;
         }
-        let side = if s.ng.dot(dir) >= 0.0 { s.ng } else { -s.ng };
+        let side = if s.hit.ng.dot(dir) >= 0.0 { s.hit.ng } else { -s.hit.ng };
         counts.secondary += 1;
-        coef * self.trace(&Ray::new(s.p + side * eps, dir), level + 1, w, counts)
+        coef * self.trace(&Ray::new(s.hit.p + side * eps, dir), level + 1, w, counts)
+    }
+}
+
+impl Integrator for Whitted<'_> {
+    fn name(&self) -> &'static str {
+        "whitted"
+    }
+
+    /// Deterministic: Whitted draws no random numbers, so the sampler is unused (its
+    /// sub-pixel position has already placed the camera ray).
+    fn radiance(&self, ray: &Ray, _sampler: &mut Sampler, counts: &mut RayCounts) -> Color {
+        self.trace(ray, 1, 1.0, counts)
     }
 }
 

@@ -184,7 +184,7 @@ pub(super) fn compare(
     what: &str,
     mismatches: &mut Vec<Mismatch>,
 ) -> bool {
-    let Some(i) = other.pixels().iter().zip(reference.pixels()).position(|(a, b)| a != b) else {
+    let Some(i) = other.pixels().iter().zip(&reference.pixels()).position(|(a, b)| a != b) else {
         return true;
     };
     mismatches.push(Mismatch {

@@ -1,0 +1,94 @@
+//! The integrator seam: what computes a pixel sample's radiance from its camera ray.
+//!
+//! The render loop ([`crate::render_with`]) owns the tiles, the samples, progress,
+//! statistics and thread-count independence; an integrator only answers "how much light
+//! arrives along this ray", drawing any random numbers it needs from the sample's
+//! [`Sampler`] so that its answer depends on nothing but the pixel and the sample index.
+
+use crate::{Sampler, SceneIntersector, Whitted};
+use dynray_geom::Ray;
+use dynray_scene::{Color, Frame};
+
+/// Rays an integrator traced besides the camera rays, counted per tile and summed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RayCounts {
+    /// Shadow (occlusion) rays.
+    pub shadow: u64,
+    /// Reflection, refraction and other continuation rays.
+    pub secondary: u64,
+}
+
+/// Computes the radiance of one pixel sample.
+pub trait Integrator: Sync {
+    /// Short name, as `--integrator` spells it.
+    fn name(&self) -> &'static str;
+
+    /// Radiance arriving along the camera ray `ray` of one pixel sample. Random numbers
+    /// come from `sampler` only; rays traced besides `ray` are counted in `counts`.
+    /// Never NaN.
+    fn radiance(&self, ray: &Ray, sampler: &mut Sampler, counts: &mut RayCounts) -> Color;
+}
+
+/// Every integrator the engine offers, by the name `--integrator` accepts.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum IntegratorKind {
+    /// [`Whitted`]: seed 003's recursive ray tracer (Phong, shadows, mirrors, glass).
+    #[default]
+    Whitted,
+}
+
+impl IntegratorKind {
+    /// All kinds, in the order listings show them.
+    pub const ALL: &'static [IntegratorKind] = &[IntegratorKind::Whitted];
+
+    /// The names of [`Self::ALL`], for command-line value lists.
+    pub const NAMES: &'static [&'static str] = &["whitted"];
+
+    /// The `--integrator` spelling.
+    pub fn name(self) -> &'static str {
+        match self {
+            IntegratorKind::Whitted => "whitted",
+        }
+    }
+
+    /// The integrator for `frame`, tracing through `scene` (the intersector over that
+    /// frame's geometry).
+    pub fn create<'a>(self, frame: &'a Frame, scene: &'a SceneIntersector<'a>) -> Box<dyn Integrator + 'a> {
+        match self {
+            IntegratorKind::Whitted => Box::new(Whitted::new(frame, scene)),
+        }
+    }
+}
+
+impl std::str::FromStr for IntegratorKind {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        IntegratorKind::ALL
+            .iter()
+            .copied()
+            .find(|k| k.name() == s)
+            .ok_or_else(|| format!("unknown integrator `{s}` (expected one of: {})", IntegratorKind::NAMES.join(", ")))
+    }
+}
+
+impl std::fmt::Display for IntegratorKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_round_trip_and_list_every_kind() {
+        assert_eq!(IntegratorKind::ALL.len(), IntegratorKind::NAMES.len());
+        for (k, n) in IntegratorKind::ALL.iter().zip(IntegratorKind::NAMES) {
+            assert_eq!(k.name(), *n);
+            assert_eq!(n.parse::<IntegratorKind>(), Ok(*k));
+        }
+        assert!("path-tracer".parse::<IntegratorKind>().unwrap_err().contains("whitted"));
+    }
+}
