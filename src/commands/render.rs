@@ -3,7 +3,7 @@
 use super::thousands;
 use crate::cli::RenderArgs;
 use anyhow::{bail, Context, Result};
-use dynray_render::{render, write_image, OutputFormat, RenderOptions};
+use dynray_render::{render, render_aov, write_aov, write_image, OutputFormat, RenderOptions};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::time::{Duration, Instant};
 
@@ -12,8 +12,12 @@ const MAX_EDGE: u32 = 1 << 15;
 
 pub fn run(a: RenderArgs) -> Result<()> {
     // Check the output name before any work, so a typo fails at once.
-    if OutputFormat::from_path(&a.output).is_none() {
-        bail!("{}: unknown image type (expected .png, .bmp or .exr)", a.output.display());
+    match (OutputFormat::from_path(&a.output), a.aov) {
+        (None, _) => bail!("{}: unknown image type (expected .png, .bmp or .exr)", a.output.display()),
+        (Some(f), Some(aov)) if f != OutputFormat::Exr => {
+            bail!("{}: --aov {aov} writes float data: use an .exr output", a.output.display())
+        }
+        _ => {}
     }
     let (scene, label) = match &a.scene {
         Some(p) => (super::load_scene(p)?, p.display().to_string()),
@@ -60,8 +64,31 @@ pub fn run(a: RenderArgs) -> Result<()> {
         bar.set_length(total as u64);
         bar.set_position(done as u64);
     };
-    let options = RenderOptions { progress: Some(&progress), ..Default::default() };
+    let options = RenderOptions {
+        progress: Some(&progress),
+        spp: a.spp,
+        seed: a.seed,
+        integrator: a.integrator,
+        ..Default::default()
+    };
     let t1 = Instant::now();
+    if let Some(aov) = a.aov {
+        let film = render_aov(&frame, accel.as_ref(), aov, &options);
+        let trace = t1.elapsed();
+        bar.finish_and_clear();
+        write_aov(&film, aov, &a.output)?;
+        eprintln!(
+            "{label}: {} triangles, {} build {:.1} ms, {aov} AOV {:.1} ms ({}x{}) -> {}",
+            thousands(frame.mesh.triangle_count()),
+            accel.name(),
+            build.as_secs_f64() * 1e3,
+            trace.as_secs_f64() * 1e3,
+            film.width(),
+            film.height(),
+            a.output.display()
+        );
+        return Ok(());
+    }
     let (film, stats) = render(&frame, accel.as_ref(), &options);
     let trace = t1.elapsed();
     bar.finish_and_clear();
@@ -69,13 +96,15 @@ pub fn run(a: RenderArgs) -> Result<()> {
 
     let secs = trace.as_secs_f64().max(1e-9);
     eprintln!(
-        "{label}: {} triangles, {} build {:.1} ms, render {:.1} ms ({}x{}, {} rays, {:.2} Mrays/s) -> {}",
+        "{label}: {} triangles, {} build {:.1} ms, {} render {:.1} ms ({}x{}, {} spp, {} rays, {:.2} Mrays/s) -> {}",
         thousands(frame.mesh.triangle_count()),
         accel.name(),
         build.as_secs_f64() * 1e3,
+        a.integrator,
         secs * 1e3,
         film.width(),
         film.height(),
+        options.spp,
         thousands(stats.total_rays() as usize),
         stats.total_rays() as f64 / secs / 1e6,
         a.output.display()
