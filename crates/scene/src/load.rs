@@ -1,8 +1,8 @@
 //! One entry point for mesh and scene files: picks the loader from the file name and
 //! turns what it reads into a [`Scene`].
 //!
-//! Formats, chosen by extension (case-insensitive): `.ply` and `.ply.gz` ([`crate::ply`]),
-//! `.obj` with its `.mtl` ([`crate::obj`]), `.gltf` and `.glb` ([`crate::gltf_loader`]),
+//! Formats, chosen by extension (case-insensitive): `.ply` and `.ply.gz` ([`crate::formats::ply`]),
+//! `.obj` with its `.mtl` ([`crate::formats::obj`]), `.gltf` and `.glb` ([`crate::formats::gltf`]),
 //! and scene files in seed 003's language, `.scn` ([`crate::scn`]).
 //!
 //! What every loaded file becomes: its meshes as actors (already in world space), its
@@ -99,12 +99,12 @@ pub fn load_file_report(path: &Path) -> Result<LoadReport, LoadError> {
     let format = FileFormat::of(path).ok_or_else(|| LoadError::UnknownFormat { path: path.to_path_buf() })?;
     match format {
         FileFormat::Ply => {
-            let mesh = crate::ply::load(path)?;
+            let mesh = crate::formats::ply::load(path)?;
             let name = path.file_name().map(|n| n.to_string_lossy().into_owned());
             Ok(LoadReport { scene: Scene::from_mesh(name, mesh, Material::default()), warnings: Vec::new() })
         }
-        FileFormat::Obj => crate::obj::load(path),
-        FileFormat::Gltf => crate::gltf_loader::load(path),
+        FileFormat::Obj => crate::formats::obj::load(path),
+        FileFormat::Gltf => crate::formats::gltf::load(path),
         FileFormat::Scn => Ok(LoadReport { scene: crate::scn::load_scn(path)?, warnings: Vec::new() }),
     }
 }
