@@ -254,6 +254,16 @@ impl<'s> Parser<'s> {
         }
     }
 
+    /// The error for a key that [`Parser::block`] accepted (it is in the block's `allowed`
+    /// list) but the block's reader has no arm for. Every reader names each of its keys,
+    /// so this is a bug in dynray; it is reported at the key rather than panicking, and
+    /// rather than reading the value as some other key, which a catch-all arm once did.
+    pub(crate) fn unhandled(&self, span: Span, key: &str, what: &str) -> Diag {
+        self.err(span, format!("internal error: parameter `{key}` of `{what}` is accepted but not read"))
+            .label("dynray's reader for this block has no case for it")
+            .note("this is a bug in dynray; please report it with this file")
+    }
+
     /// A `None` required parameter becomes an error at the block.
     pub(crate) fn required<T>(&self, v: Option<T>, key: &str, what: &str, block: &Span) -> R<T> {
         v.ok_or_else(|| {
