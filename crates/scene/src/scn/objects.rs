@@ -170,9 +170,10 @@ impl Parser<'_> {
                     "file" => {
                         let (rel, s) = p.string("a quoted file name")?;
                         let path = p.dir.join(&rel);
-                        let parts = load_mesh_file(&path).map_err(|e| {
+                        let (parts, warnings) = load_mesh_file(&path).map_err(|e| {
                             p.err(s, format!("cannot load mesh file `{rel}`")).label("this file").note(e.to_string())
                         })?;
+                        p.st.warnings.extend(warnings);
                         file = Some(parts);
                     }
                     "vertices" => vertices = Some(p.vector_list("vertices", "vertex")?),

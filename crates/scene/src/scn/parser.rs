@@ -8,7 +8,7 @@ use super::lexer::{tokenize, Tok, Token};
 use super::objects::Object;
 use super::value::Value;
 use super::{MAX_EXPR_DEPTH, MAX_INCLUDE_DEPTH};
-use crate::{Camera, Environment, Light, Material, Settings};
+use crate::{Camera, Environment, Light, Material, Settings, Warning};
 use glam::DMat4;
 use std::collections::HashMap;
 use std::ops::Range;
@@ -106,6 +106,8 @@ pub(crate) struct State {
     pub sphere_detail: Option<u32>,
     /// Canonical paths of the files being read, outermost first (include cycle check).
     pub include_stack: Vec<PathBuf>,
+    /// Warnings of the mesh files read so far, in reading order.
+    pub warnings: Vec<Warning>,
 }
 
 /// Parser of one file.
