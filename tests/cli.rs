@@ -126,6 +126,21 @@ fn info_reports_counts_and_structure() {
     }
 }
 
+/// A mesh read from a scene file warns through the scene, once, and the command still
+/// succeeds (it renders with the default material).
+#[test]
+fn scene_mesh_warnings_are_printed_once() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("tri.obj"), "mtllib gone.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let scn = dir.path().join("a.scn");
+    std::fs::write(&scn, "mesh { file \"tri.obj\" }\nmesh { file \"tri.obj\" }\n").unwrap();
+    let o = ok(dynray(&["info", scn.to_str().unwrap()]));
+    let err = stderr(&o);
+    let lines: Vec<&str> = err.lines().filter(|l| l.contains("gone.mtl")).collect();
+    assert_eq!(lines.len(), 1, "{err}");
+    assert!(lines[0].starts_with("dynray: warning: ") && lines[0].contains("tri.obj:1:"), "{err}");
+}
+
 #[test]
 fn missing_file_is_a_clean_error() {
     fails_with(dynray(&["info", "/nonexistent/model.ply"]), "/nonexistent/model.ply");

@@ -24,9 +24,19 @@ pub fn run(cli: Cli) -> Result<()> {
     }
 }
 
-/// Loads any scene or mesh file the engine reads.
+/// Loads any scene or mesh file the engine reads. Warnings (a missing `.mtl`, also one
+/// referenced from a `.scn`) go to stderr, each once, as `dynray: warning: …`; the
+/// library returns them rather than printing, so this is where a person sees them.
 fn load_scene(path: &Path) -> Result<Scene> {
-    Ok(dynray_scene::load_file(path)?)
+    let report = dynray_scene::load_file_report(path)?;
+    let mut shown = Vec::with_capacity(report.warnings.len());
+    for w in &report.warnings {
+        if !shown.contains(&w) {
+            eprintln!("dynray: warning: {w}");
+            shown.push(w);
+        }
+    }
+    Ok(report.scene)
 }
 
 /// Formats a count with thousands separators (`871,414`): the bench's formatter.

@@ -1,19 +1,22 @@
 //! One entry point for mesh and scene files: picks the loader from the file name and
 //! turns what it reads into a [`Scene`].
 //!
-//! Formats, chosen by extension (case-insensitive): `.ply` and `.ply.gz` ([`crate::ply`]),
-//! `.obj` with its `.mtl` ([`crate::obj`]), `.gltf` and `.glb` ([`crate::gltf_loader`]),
-//! and scene files in seed 003's language, `.scn` ([`crate::scn`]).
+//! Formats, chosen by extension (case-insensitive): `.ply` and `.ply.gz`
+//! ([`crate::formats::ply`]), `.obj` with its `.mtl` ([`crate::formats::obj`]), `.gltf` and
+//! `.glb` ([`crate::formats::gltf`]), and scene files in seed 003's language, `.scn`
+//! ([`crate::scn`]).
 //!
-//! What every loaded file becomes: its meshes as actors (already in world space), its
-//! materials (or one default material when it has none), its lights (or one default point
-//! light, [`Scene::add_default_light`], when it has none), and `camera: None`, which
-//! frames the scene's bounding box at render time.
+//! What every loaded file becomes: its meshes as actors (each in its own space with the
+//! transform that places it, see [`crate::Actor`]), its materials (or one default material
+//! when it has none), its lights (or one default point light, [`Scene::add_default_light`],
+//! when it has none), and `camera: None`, which frames the scene's bounding box at render
+//! time.
 //!
 //! Problems that do not stop loading (a missing `.mtl` file, an unknown material name, a
-//! glTF point primitive that is skipped) are returned as [`Warning`]s in a [`LoadReport`]
-//! by [`load_file_report`]; [`load_file`] drops them. A library does not print: the caller
-//! (the binary) decides whether to show them.
+//! glTF point primitive that is skipped, any of these in a mesh file that a `.scn` reads)
+//! are returned as [`Warning`]s in a [`LoadReport`] by [`load_file_report`]; [`load_file`]
+//! drops them. A library does not print: the caller (the binary) decides whether to show
+//! them.
 
 use crate::{LoadError, Material, Scene};
 use std::fmt;
@@ -99,13 +102,13 @@ pub fn load_file_report(path: &Path) -> Result<LoadReport, LoadError> {
     let format = FileFormat::of(path).ok_or_else(|| LoadError::UnknownFormat { path: path.to_path_buf() })?;
     match format {
         FileFormat::Ply => {
-            let mesh = crate::ply::load(path)?;
+            let mesh = crate::formats::ply::load(path)?;
             let name = path.file_name().map(|n| n.to_string_lossy().into_owned());
             Ok(LoadReport { scene: Scene::from_mesh(name, mesh, Material::default()), warnings: Vec::new() })
         }
-        FileFormat::Obj => crate::obj::load(path),
-        FileFormat::Gltf => crate::gltf_loader::load(path),
-        FileFormat::Scn => Ok(LoadReport { scene: crate::scn::load_scn(path)?, warnings: Vec::new() }),
+        FileFormat::Obj => crate::formats::obj::load(path),
+        FileFormat::Gltf => crate::formats::gltf::load(path),
+        FileFormat::Scn => crate::scn::load_scn_report(path),
     }
 }
 

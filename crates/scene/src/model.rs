@@ -1,6 +1,8 @@
 //! The in-memory scene (seed 003 §2.4): actors with meshes and materials, lights, camera,
-//! render settings and environment. `Scene::frame(t)` flattens it into a [`Frame`].
+//! render settings and environment. [`Scene::frame_into`] flattens it into a
+//! [`crate::Frame`] (`frame.rs`); actors are in `actor.rs`.
 
+use crate::Actor;
 use dynray_geom::{Aabb, TriangleMesh, Vec3};
 
 /// An RGB colour, linear, components usually in `[0, 1]`.
@@ -179,25 +181,6 @@ impl Default for Environment {
     }
 }
 
-/// A mesh placed in the scene with a material per triangle.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Actor {
-    /// Name, if the source gave one.
-    pub name: Option<String>,
-    /// Geometry, already in world space.
-    pub mesh: TriangleMesh,
-    /// Index into [`Scene::materials`] for each triangle of `mesh`.
-    pub materials: Vec<u32>,
-}
-
-impl Actor {
-    /// An actor whose triangles all use `material`.
-    pub fn new(name: Option<String>, mesh: TriangleMesh, material: u32) -> Self {
-        let materials = vec![material; mesh.triangle_count()];
-        Self { name, mesh, materials }
-    }
-}
-
 /// A whole scene.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Scene {
@@ -209,25 +192,6 @@ pub struct Scene {
     pub lights: Vec<Light>,
     /// Camera; `None` frames the scene's bounding box.
     pub camera: Option<Camera>,
-    /// Render settings.
-    pub settings: Settings,
-    /// Background, ambient, medium.
-    pub environment: Environment,
-}
-
-/// One time step of a scene, flattened for the acceleration structures and integrators.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Frame {
-    /// All actors' triangles, concatenated in actor order (triangle order within each).
-    pub mesh: TriangleMesh,
-    /// Material index per triangle of `mesh`.
-    pub materials_of: Vec<u32>,
-    /// Materials.
-    pub materials: Vec<Material>,
-    /// Lights.
-    pub lights: Vec<Light>,
-    /// The camera (resolved: never absent).
-    pub camera: Camera,
     /// Render settings.
     pub settings: Settings,
     /// Background, ambient, medium.
@@ -257,45 +221,13 @@ impl Scene {
         });
     }
 
-    /// Bounding box of all actors.
+    /// Bounding box of all actors, in world space.
     pub fn bounds(&self) -> Aabb {
-        self.actors.iter().fold(Aabb::EMPTY, |b, a| b.union(&a.mesh.bounds()))
+        self.actors.iter().fold(Aabb::EMPTY, |b, a| b.union(&a.bounds()))
     }
 
     /// Number of triangles over all actors.
     pub fn triangle_count(&self) -> usize {
         self.actors.iter().map(|a| a.mesh.triangle_count()).sum()
-    }
-
-    /// The scene at time `t` (seconds). Static scenes ignore `t`.
-    pub fn frame(&self, _t: f32) -> Frame {
-        let mut mesh = TriangleMesh::default();
-        let mut materials_of = Vec::with_capacity(self.triangle_count());
-        // Actors without vertex normals get zero normals, which shading reads as "use
-        // the triangle's geometric normal" (seed 003 §3.1), so one mesh can mix both.
-        let any_normals = self.actors.iter().any(|a| a.mesh.normals.is_some());
-        let mut normals = Vec::new();
-        for a in &self.actors {
-            mesh.append(&a.mesh);
-            materials_of.extend_from_slice(&a.materials);
-            if any_normals {
-                match &a.mesh.normals {
-                    Some(n) => normals.extend_from_slice(n),
-                    None => normals.resize(normals.len() + a.mesh.vertex_count(), [0.0; 3]),
-                }
-            }
-        }
-        mesh.normals = any_normals.then_some(normals);
-        let materials = if self.materials.is_empty() { vec![Material::default()] } else { self.materials.clone() };
-        let camera = self.camera.unwrap_or_else(|| Camera::framing(&mesh.bounds()));
-        Frame {
-            mesh,
-            materials_of,
-            materials,
-            lights: self.lights.clone(),
-            camera,
-            settings: self.settings,
-            environment: self.environment,
-        }
     }
 }

@@ -33,7 +33,7 @@ fn v(x: f32, y: f32, z: f32) -> Vec3 {
 }
 
 fn positions(s: &Scene, actor: usize) -> Vec<Vec3> {
-    s.actors[actor].mesh.positions.iter().map(|p| Vec3::from_array(*p)).collect()
+    s.actors[actor].world_mesh().positions.iter().map(|p| Vec3::from_array(*p)).collect()
 }
 
 const TRI: &str = "mesh { vertices { 3 <0,0,0> <1,0,0> <0,1,0> } triangles { 1 <0,1,2> } }";
@@ -44,9 +44,9 @@ const TRI: &str = "mesh { vertices { 3 <0,0,0> <1,0,0> <0,1,0> } triangles { 1 <
 fn mesh_inline_vertices_and_triangles() {
     let s = parse(TRI);
     assert_eq!(s.actors.len(), 1);
-    assert_eq!(s.actors[0].mesh.indices, vec![[0, 1, 2]]);
+    assert_eq!(s.actors[0].world_mesh().indices, vec![[0, 1, 2]]);
     assert_eq!(positions(&s, 0), vec![v(0., 0., 0.), v(1., 0., 0.), v(0., 1., 0.)]);
-    assert!(s.actors[0].mesh.normals.is_none());
+    assert!(s.actors[0].world_mesh().normals.is_none());
     // No material: the default one.
     assert_eq!(s.materials, vec![Material::default()]);
 }
@@ -57,7 +57,7 @@ fn mesh_inline_normal_indices_split_vertices() {
         "mesh { vertices { 4 <0,0,0> <1,0,0> <0,1,0> <1,1,0> } normals { 2 <0,0,1> <0,0,-2> }
            triangles { 2 <0,1,2>/<0,0,0> <1,3,2>/<1,1,1> } }",
     );
-    let m = &s.actors[0].mesh;
+    let m = &s.actors[0].world_mesh();
     assert_eq!(m.triangle_count(), 2);
     // Vertices 1 and 2 are used with two normals each: 6 output vertices.
     assert_eq!(m.vertex_count(), 6);
@@ -72,7 +72,7 @@ fn mesh_inline_normals_per_vertex_when_counts_match() {
         "mesh { vertices { 3 <0,0,0> <1,0,0> <0,1,0> } normals { 3 <0,0,1> <0,0,1> <0,0,1> }
            triangles { 1 <0,1,2> } }",
     );
-    let m = &s.actors[0].mesh;
+    let m = &s.actors[0].world_mesh();
     assert_eq!(m.vertex_count(), 3);
     assert_eq!(m.normals.as_ref().unwrap()[2], [0.0, 0.0, 1.0]);
 }
@@ -102,8 +102,42 @@ fn mesh_file_is_relative_to_the_scene_file() {
     let scene = dir.path().join("a.scn");
     std::fs::write(&scene, "mesh { file \"models/tri.ply\" transform { translate <0,0,5> } }").unwrap();
     let s = load_scn(&scene).unwrap();
-    assert_eq!(s.actors[0].mesh.triangle_count(), 1);
+    assert_eq!(s.actors[0].world_mesh().triangle_count(), 1);
     assert_eq!(positions(&s, 0)[1], v(1., 0., 5.));
+}
+
+/// Regression: a mesh file's warnings (here its `.mtl` is missing) were dropped when the
+/// mesh was read from a scene file, so the scene rendered grey without a word.
+#[test]
+fn mesh_file_warnings_reach_the_scene_report() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = dir.path().join("tri.obj");
+    std::fs::write(
+        &obj,
+        "mtllib gone.mtl
+v 0 0 0
+v 1 0 0
+v 0 1 0
+usemtl red
+f 1 2 3
+",
+    )
+    .unwrap();
+    let scene = dir.path().join("a.scn");
+    // Read twice (two actors): the same warning is reported once.
+    std::fs::write(&scene, "mesh { file \"tri.obj\" }\nmesh { file \"tri.obj\" transform { translate <2,0,0> } }")
+        .unwrap();
+    for r in [dynray_scene::load_file_report(&scene).unwrap(), dynray_scene::load_scn_report(&scene).unwrap()] {
+        assert_eq!(r.scene.actors.len(), 2);
+        let mtl: Vec<_> = r.warnings.iter().filter(|w| w.message.contains("gone.mtl")).collect();
+        assert_eq!(mtl.len(), 1, "one warning naming the .mtl, once: {:?}", r.warnings);
+        assert_eq!(mtl[0].path.file_name().unwrap(), "tri.obj", "it names the mesh file");
+        assert_eq!(mtl[0].line, Some(1));
+        assert!(mtl[0].to_string().contains("tri.obj:1: material library"), "{}", mtl[0]);
+    }
+    // The same scene without a missing library warns about nothing.
+    std::fs::write(&obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    assert_eq!(dynray_scene::load_file_report(&scene).unwrap().warnings, vec![]);
 }
 
 #[test]
@@ -128,11 +162,11 @@ fn mesh_file_and_inline_data_do_not_mix() {
 #[test]
 fn box_has_center_edge_lengths_and_rotation_in_degrees() {
     let s = parse("box { center <1,2,3> orientation <0,0,0> scale <2,4,6> }");
-    let b = s.actors[0].mesh.bounds();
+    let b = s.actors[0].world_mesh().bounds();
     assert!(close(b.min, v(0., 0., 0.)) && close(b.max, v(2., 4., 6.)), "{b:?}");
-    assert_eq!(s.actors[0].mesh.triangle_count(), 12);
+    assert_eq!(s.actors[0].world_mesh().triangle_count(), 12);
     let s = parse("box { center <0,0,0> orientation <0,0,90> scale <2,1,1> }");
-    let e = s.actors[0].mesh.bounds().extent();
+    let e = s.actors[0].world_mesh().bounds().extent();
     assert!(close(e, v(1., 2., 1.)), "rotated 90° about z: {e}");
 }
 
@@ -140,13 +174,13 @@ fn box_has_center_edge_lengths_and_rotation_in_degrees() {
 fn sphere_detail_setting_controls_tessellation() {
     let s = parse("settings { sphere_detail 16 } sphere { center <0,0,0> radius 2 }");
     // 16 slices, 8 stacks: 16 + 2·16·6 + 16 triangles.
-    assert_eq!(s.actors[0].mesh.triangle_count(), 16 + 2 * 16 * 6 + 16);
+    assert_eq!(s.actors[0].world_mesh().triangle_count(), 16 + 2 * 16 * 6 + 16);
     for p in positions(&s, 0) {
         assert!((p.length() - 2.0).abs() < 1e-5, "vertex {p} not on the sphere");
     }
     // The setting applies to spheres written before it, too.
     let s2 = parse("sphere { center <0,0,0> radius 2 } settings { sphere_detail 16 }");
-    assert_eq!(s2.actors[0].mesh.triangle_count(), s.actors[0].mesh.triangle_count());
+    assert_eq!(s2.actors[0].world_mesh().triangle_count(), s.actors[0].world_mesh().triangle_count());
 }
 
 #[test]
@@ -160,7 +194,7 @@ fn sphere_auto_detail_follows_image_size() {
     assert!(r * (1.0 - (std::f64::consts::PI / n).cos()) <= 0.25);
     let s = parse("settings { image_width 64 image_height 64 } sphere { center <0,0,0> radius 1 }");
     let k = small as usize;
-    assert_eq!(s.actors[0].mesh.triangle_count(), 2 * k + 2 * k * (k / 2 - 2));
+    assert_eq!(s.actors[0].world_mesh().triangle_count(), 2 * k + 2 * k * (k / 2 - 2));
 }
 
 #[test]
@@ -418,7 +452,7 @@ fn transform_errors() {
 #[test]
 fn define_values_with_and_without_equals() {
     let s = parse("define r 2 define c = <1,2,3> sphere { center c * r radius r / 2 }");
-    let b = s.actors[0].mesh.bounds();
+    let b = s.actors[0].world_mesh().bounds();
     assert!(close(b.center(), v(2., 4., 6.)), "{b:?}");
 }
 
@@ -435,8 +469,8 @@ fn define_can_alias_any_definition() {
 #[test]
 fn redefinition_replaces_from_then_on() {
     let s = parse("define r = 1 sphere { center <0,0,0> radius r } define r = 3 sphere { center <0,0,0> radius r }");
-    assert!((s.actors[0].mesh.bounds().max.x - 1.0).abs() < 1e-5);
-    assert!((s.actors[1].mesh.bounds().max.x - 3.0).abs() < 1e-5);
+    assert!((s.actors[0].world_mesh().bounds().max.x - 1.0).abs() < 1e-5);
+    assert!((s.actors[1].world_mesh().bounds().max.x - 3.0).abs() < 1e-5);
 }
 
 #[test]
@@ -871,11 +905,11 @@ fn example_seed_examples() {
     let s = load_scn(&examples_dir().join("seed_examples.scn")).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(s.actors.len(), 3, "unit cube and two ellipsoids");
     assert_eq!(s.lights.len(), 1, "luz1 is only defined");
-    assert_eq!(s.actors[0].mesh.triangle_count(), 12);
+    assert_eq!(s.actors[0].world_mesh().triangle_count(), 12);
     // The ellipsoids: bola scaled by <2,1,1> then moved to (-1,-1,0), and by <1,2,1> to (1,1,0).
-    let b = s.actors[1].mesh.bounds();
+    let b = s.actors[1].world_mesh().bounds();
     assert!(close(b.min, v(-3., -2., -1.)) && close(b.max, v(1., 0., 1.)), "{b:?}");
-    let b = s.actors[2].mesh.bounds();
+    let b = s.actors[2].world_mesh().bounds();
     assert!(close(b.min, v(0., -1., -1.)) && close(b.max, v(2., 3., 1.)), "{b:?}");
 }
 
@@ -908,8 +942,8 @@ fn example_bunny_with_included_materials() {
     .unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(s.actors.len(), 2, "bunny and floor");
     assert_eq!(s.lights.len(), 2);
-    assert_eq!(s.actors[0].mesh.triangle_count(), 69451);
-    let b = s.actors[0].mesh.bounds();
+    assert_eq!(s.actors[0].world_mesh().triangle_count(), 69451);
+    let b = s.actors[0].world_mesh().bounds();
     assert!(b.min.y.abs() < 0.01, "the bunny sits on the floor: {b:?}");
     assert_eq!(s.materials[s.actors[0].materials[0] as usize].name, "glossy_brick");
 }

@@ -46,10 +46,11 @@ impl Parser<'_> {
                     dir = Some((d, span));
                 }
                 "color" => color = Some(p.color("light color")?),
-                _ => {
+                "falloff" => {
                     falloff_span = Some(span);
                     falloff = Some(p.int("falloff exponent", 0, MAX_FALLOFF)? as i32);
                 }
+                other => return Err(p.unhandled(span, other, "light")),
             }
             Ok(())
         })?;
@@ -108,7 +109,8 @@ impl Parser<'_> {
                     "position" => pos = Some(p.vector("camera position")?),
                     "to" => to = Some(p.vector("camera focal point `to`")?),
                     "up" => up = Some(p.vector("camera up vector")?),
-                    _ => angle = Some(p.real_f32("camera angle", "it must be positive", |x| x > 0.0)?),
+                    "angle" => angle = Some(p.real_f32("camera angle", "it must be positive", |x| x > 0.0)?),
+                    other => return Err(p.unhandled(span, other, "camera")),
                 }
                 Ok(())
             },
@@ -148,11 +150,14 @@ impl Parser<'_> {
     /// `environment { [background C] [ambient C] [ior R] }`; the keyword is consumed.
     pub(crate) fn environment(&mut self) -> R<Environment> {
         let mut env = Environment::default();
-        self.block("environment", &["background", "ambient", "ior"], &[], |p, key, _| {
+        self.block("environment", &["background", "ambient", "ior"], &[], |p, key, span| {
             match key {
                 "background" => env.background = p.color("background")?,
                 "ambient" => env.ambient = p.color("ambient light")?,
-                _ => env.ior = p.real_f32("environment ior", "an index of refraction must be positive", |x| x > 0.0)?,
+                "ior" => {
+                    env.ior = p.real_f32("environment ior", "an index of refraction must be positive", |x| x > 0.0)?
+                }
+                other => return Err(p.unhandled(span, other, "environment")),
             }
             Ok(())
         })?;
@@ -169,7 +174,7 @@ impl Parser<'_> {
             "settings",
             &["image_width", "image_height", "min_weight", "max_recursion_level", "sphere_detail"],
             &[],
-            |p, key, _| {
+            |p, key, span| {
                 match key {
                     "image_width" => s.width = p.int("image_width", 1, MAX_IMAGE_SIDE)? as u32,
                     "image_height" => s.height = p.int("image_height", 1, MAX_IMAGE_SIDE)? as u32,
@@ -180,13 +185,14 @@ impl Parser<'_> {
                     "max_recursion_level" => {
                         s.max_recursion_level = p.int("max_recursion_level", 1, MAX_RECURSION)? as u32
                     }
-                    _ => {
+                    "sphere_detail" => {
                         detail = Some(p.int(
                             "sphere_detail",
                             super::build::MIN_SPHERE_DETAIL as i64,
                             super::build::MAX_SPHERE_DETAIL as i64,
                         )? as u32)
                     }
+                    other => return Err(p.unhandled(span, other, "settings")),
                 }
                 Ok(())
             },
@@ -208,10 +214,11 @@ impl Parser<'_> {
         }
         let mut color = None;
         let mut finish = Finish::default();
-        let block = self.block("material", &["color", "finish"], &[], |p, key, _| {
+        let block = self.block("material", &["color", "finish"], &[], |p, key, span| {
             match key {
                 "color" => color = Some(p.color("material color")?),
-                _ => finish = p.finish()?,
+                "finish" => finish = p.finish()?,
+                other => return Err(p.unhandled(span, other, "material")),
             }
             Ok(())
         })?;
@@ -222,7 +229,7 @@ impl Parser<'_> {
     fn finish(&mut self) -> R<Finish> {
         let mut f = Finish::default();
         let keys = ["ambient", "diffuse", "spot", "shine", "specular", "transparency", "ior"];
-        self.block("finish", &keys, &[], |p, key, _| {
+        self.block("finish", &keys, &[], |p, key, span| {
             let nonneg = |x: f64| x >= 0.0;
             match key {
                 "ambient" => f.ambient = p.real_f32("finish ambient", "it must not be negative", nonneg)?,
@@ -233,7 +240,8 @@ impl Parser<'_> {
                 "transparency" => {
                     f.transparency = p.real_f32("finish transparency", "it must not be negative", nonneg)?
                 }
-                _ => f.ior = p.real_f32("finish ior", "an index of refraction must be positive", |x| x > 0.0)?,
+                "ior" => f.ior = p.real_f32("finish ior", "an index of refraction must be positive", |x| x > 0.0)?,
+                other => return Err(p.unhandled(span, other, "finish")),
             }
             Ok(())
         })?;

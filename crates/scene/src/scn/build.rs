@@ -1,12 +1,13 @@
 //! The last step: the parsed actors become a [`Scene`]. Spheres are tessellated here,
 //! once the final `sphere_detail` (or the image size it is derived from) is known;
-//! transforms are applied; materials are shared between actors that use the same one.
+//! each actor keeps its object-space mesh and its transform (the frame applies it);
+//! materials are shared between actors that use the same one.
 
 use super::diag::Diag;
 use super::objects::Shape;
 use super::parser::State;
 use crate::shapes::uv_sphere;
-use crate::{Actor, Material, Scene, Settings};
+use crate::{Actor, Material, Motion, Scene, Settings, Transform};
 use dynray_geom::TriangleMesh;
 use glam::DMat4;
 use std::collections::HashMap;
@@ -47,6 +48,16 @@ pub(crate) fn build(st: State) -> Result<Scene, Diag> {
     let mut index_of: HashMap<*const Material, u32> = HashMap::new();
     let mut default_index = None;
     for entry in st.actors {
+        // Parts of one object share one transform (modifiers apply to the whole object),
+        // so the actor keeps its parts in object space and the transform beside them; the
+        // frame applies it with the same `f32` matrix the builder once baked with, so
+        // world positions keep their bits. Should parts ever differ, each is baked here
+        // and the actor has none.
+        let first = entry.object.parts.first().map_or(DMat4::IDENTITY, |p| p.transform);
+        let shared = entry.object.parts.iter().all(|p| p.transform == first);
+        // Only a non-identity matrix is applied: the builder always skipped identities.
+        let transform =
+            if shared && first != DMat4::IDENTITY { Transform::new(first.as_mat4()) } else { Transform::IDENTITY };
         let mut mesh = TriangleMesh::default();
         let mut materials = Vec::new();
         let mut parts = Vec::with_capacity(entry.object.parts.len());
@@ -55,7 +66,7 @@ pub(crate) fn build(st: State) -> Result<Scene, Diag> {
                 Shape::Mesh(m) => (**m).clone(),
                 Shape::Sphere { center, radius } => uv_sphere(*center, *radius, slices / 2, slices),
             };
-            if part.transform != DMat4::IDENTITY {
+            if !shared && part.transform != DMat4::IDENTITY {
                 m.transform(&part.transform.as_mat4());
             }
             let id = match &part.material {
@@ -80,12 +91,16 @@ pub(crate) fn build(st: State) -> Result<Scene, Diag> {
             materials.extend(std::iter::repeat_n(id, m.triangle_count()));
             mesh.append(&m);
         }
-        if let Err(e) = mesh.validate() {
+        let actor = Actor { name: entry.name, mesh, materials, transform, motion: Motion::Static };
+        // Checked in world space, as the frame will hold it: a transform can overflow
+        // `f32`. (Indices and attributes are the same in both spaces.)
+        let checked = if transform.is_identity() { actor.mesh.validate() } else { actor.world_mesh().validate() };
+        if let Err(e) = checked {
             return Err(Diag::new(entry.file, entry.span, format!("this object's geometry is unusable: {e}"))
                 .label("placed here")
                 .note("a transform may have pushed coordinates beyond single precision"));
         }
-        scene.actors.push(Actor { name: entry.name, mesh, materials });
+        scene.actors.push(actor);
     }
     Ok(scene)
 }

@@ -3,36 +3,44 @@
 //! files. Scene files themselves are not meshes: including one goes through `include`.
 
 use crate::load::{load_file_report, FileFormat};
-use crate::{LoadError, Material};
+use crate::{LoadError, Material, Warning};
 use dynray_geom::TriangleMesh;
 use std::path::Path;
 
-/// Reads a mesh file as (mesh, material from the file) parts: one part per actor and
-/// material, triangles in file order within each part. Lights and cameras of the file
-/// are not taken: the scene file places its own.
-pub(crate) fn load_mesh_file(path: &Path) -> Result<Vec<(TriangleMesh, Option<Material>)>, LoadError> {
+/// A mesh file read as parts: (world-space mesh, material from the file).
+pub(crate) type Parts = Vec<(TriangleMesh, Option<Material>)>;
+
+/// Reads a mesh file as parts: one part per actor and material, triangles in file order
+/// within each part, in the file's own world space (a glTF node's matrix is applied
+/// here, since the scene file's transform composes with it). Lights and cameras of the
+/// file are not taken: the scene file places its own. The loader's warnings (a missing
+/// `.mtl`, say) come back with the parts, naming the mesh file, for the scene's report.
+pub(crate) fn load_mesh_file(path: &Path) -> Result<(Parts, Vec<Warning>), LoadError> {
     if FileFormat::of(path) == Some(FileFormat::Scn) {
         return Err(LoadError::parse(path, None, "a scene file is not a mesh: use `include` to read it"));
     }
     // PLY has no materials: its parts take the object's (or the scene's default) material.
     let has_materials = FileFormat::of(path) != Some(FileFormat::Ply);
-    let scene = load_file_report(path)?.scene;
+    let report = load_file_report(path)?;
+    let scene = report.scene;
     let material = |id: u32| if has_materials { scene.materials.get(id as usize).cloned() } else { None };
     let mut parts = Vec::new();
     for actor in scene.actors {
         let mut ids: Vec<u32> = actor.materials.clone();
         ids.sort_unstable();
         ids.dedup();
+        let mut world = actor.mesh;
+        actor.transform.apply(&mut world);
         if let [only] = ids[..] {
-            parts.push((actor.mesh, material(only)));
+            parts.push((world, material(only)));
             continue;
         }
         for id in ids {
-            let mut mesh = actor.mesh.clone();
+            let mut mesh = world.clone();
             mesh.indices =
-                actor.mesh.indices.iter().zip(&actor.materials).filter(|(_, &m)| m == id).map(|(t, _)| *t).collect();
+                world.indices.iter().zip(&actor.materials).filter(|(_, &m)| m == id).map(|(t, _)| *t).collect();
             parts.push((mesh, material(id)));
         }
     }
-    Ok(parts)
+    Ok((parts, report.warnings))
 }

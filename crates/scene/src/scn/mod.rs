@@ -24,7 +24,7 @@ pub use build::{auto_sphere_detail, MAX_SPHERE_DETAIL, MIN_SPHERE_DETAIL, SILHOU
 pub use transform::{rotate_about, scale_about};
 pub use value::{BinOp, Value};
 
-use crate::{LoadError, Scene};
+use crate::{LoadError, LoadReport, Scene, Warning};
 use parser::{Parser, State};
 use std::path::Path;
 
@@ -44,7 +44,15 @@ const PARSER_STACK_BYTES: usize = 32 << 20;
 pub const MAX_INCLUDE_DEPTH: usize = 32;
 
 /// Loads a `.scn` file. Includes and mesh files are found relative to the file naming them.
+/// Warnings of the mesh files it reads are dropped; [`load_scn_report`] returns them.
 pub fn load_scn(path: &Path) -> Result<Scene, LoadError> {
+    load_scn_report(path).map(|r| r.scene)
+}
+
+/// Loads a `.scn` file with the warnings of the mesh files it reads (a missing `.mtl`, a
+/// skipped glTF primitive), each naming the mesh file, in reading order. A mesh file read
+/// twice warns once.
+pub fn load_scn_report(path: &Path) -> Result<LoadReport, LoadError> {
     let text = std::fs::read_to_string(path).map_err(|e| LoadError::io(path, e))?;
     let canon = path.canonicalize().map_err(|e| LoadError::io(path, e))?;
     let dir = canon.parent().map(Path::to_path_buf).unwrap_or_default();
@@ -52,9 +60,9 @@ pub fn load_scn(path: &Path) -> Result<Scene, LoadError> {
 }
 
 /// Parses scene text. `name` labels diagnostics; `base_dir` is where relative includes
-/// and mesh files are looked up.
+/// and mesh files are looked up. Mesh-file warnings are dropped (see [`load_scn_report`]).
 pub fn parse_scn_str(name: &str, text: &str, base_dir: &Path) -> Result<Scene, LoadError> {
-    on_parser_stack(|| parse(name.to_string(), text.to_string(), base_dir, None))
+    on_parser_stack(|| parse(name.to_string(), text.to_string(), base_dir, None)).map(|r| r.scene)
 }
 
 /// Runs `f` on a thread with [`PARSER_STACK_BYTES`] of stack, or on this one if no
@@ -78,7 +86,7 @@ fn on_parser_stack<T: Send>(f: impl FnOnce() -> T + Send) -> T {
     }
 }
 
-fn parse(name: String, text: String, dir: &Path, canon: Option<std::path::PathBuf>) -> Result<Scene, LoadError> {
+fn parse(name: String, text: String, dir: &Path, canon: Option<std::path::PathBuf>) -> Result<LoadReport, LoadError> {
     let mut st = State::default();
     let file = st.sources.add(name.clone(), canon.clone().unwrap_or_else(|| name.into()), text);
     st.include_stack.extend(canon);
@@ -87,7 +95,14 @@ fn parse(name: String, text: String, dir: &Path, canon: Option<std::path::PathBu
         return Err(d.into_error(&st.sources));
     }
     let sources = std::mem::take(&mut st.sources);
-    build::build(st).map_err(|d| d.into_error(&sources))
+    let mut warnings: Vec<Warning> = Vec::new();
+    for w in std::mem::take(&mut st.warnings) {
+        if !warnings.contains(&w) {
+            warnings.push(w);
+        }
+    }
+    let scene = build::build(st).map_err(|d| d.into_error(&sources))?;
+    Ok(LoadReport { scene, warnings })
 }
 
 /// Evaluates one expression (`"<1,2,3> * 2"`) with no definitions: what the property

@@ -80,7 +80,7 @@ impl Parser<'_> {
     /// `Objeto`: a primitive, `object name` or `object { name modifiers }`. Returns the
     /// actor name (`Some` for the named forms) and the object.
     pub(crate) fn object(&mut self) -> R<(Option<String>, Object)> {
-        let (word, _) = self.name("an object")?;
+        let (word, word_span) = self.name("an object")?;
         match word.as_str() {
             "mesh" => Ok((None, self.mesh()?)),
             "box" => Ok((None, self.boxx()?)),
@@ -96,7 +96,12 @@ impl Parser<'_> {
                 let (name, span) = self.name("the name of a defined object, or `{`")?;
                 Ok((Some(name.clone()), self.object_named(&name, span)?))
             }
-            _ => unreachable!("callers dispatch only mesh, box, sphere and object here"),
+            // Callers dispatch only the four words above; an error rather than a panic
+            // keeps a future caller's mistake from crashing on someone's input.
+            other => Err(self
+                .err(word_span, format!("internal error: `{other}` is not an object"))
+                .label("expected `mesh`, `box`, `sphere` or `object`")
+                .note("this is a bug in dynray; please report it with this file")),
         }
     }
 
@@ -165,9 +170,10 @@ impl Parser<'_> {
                     "file" => {
                         let (rel, s) = p.string("a quoted file name")?;
                         let path = p.dir.join(&rel);
-                        let parts = load_mesh_file(&path).map_err(|e| {
+                        let (parts, warnings) = load_mesh_file(&path).map_err(|e| {
                             p.err(s, format!("cannot load mesh file `{rel}`")).label("this file").note(e.to_string())
                         })?;
+                        p.st.warnings.extend(warnings);
                         file = Some(parts);
                     }
                     "vertices" => vertices = Some(p.vector_list("vertices", "vertex")?),
@@ -175,7 +181,8 @@ impl Parser<'_> {
                         let n = p.vector_list("normals", "normal")?;
                         normals = Some((n, span.start..p.prev_end()));
                     }
-                    _ => triangles = Some(p.triangle_list()?),
+                    "triangles" => triangles = Some(p.triangle_list()?),
+                    other => return Err(p.unhandled(span, other, "mesh")),
                 }
                 Ok(())
             })?;
@@ -355,11 +362,11 @@ impl Parser<'_> {
     /// `box { center V orientation V scale V modifiers }`.
     fn boxx(&mut self) -> R<Object> {
         let (mut c, mut o, mut s) = (None, None, None);
-        let (block, mods) = self.primitive_block("box", &["center", "orientation", "scale"], |p, key, _| {
+        let (block, mods) = self.primitive_block("box", &["center", "orientation", "scale"], |p, key, span| {
             match key {
                 "center" => c = Some(p.vector("box center")?),
                 "orientation" => o = Some(p.vector("box orientation")?),
-                _ => {
+                "scale" => {
                     let start = p.span().start;
                     let v = p.vector("box scale")?;
                     if v.min_element() <= 0.0 {
@@ -369,6 +376,7 @@ impl Parser<'_> {
                     }
                     s = Some(v);
                 }
+                other => return Err(p.unhandled(span, other, "box")),
             }
             Ok(())
         })?;
@@ -383,10 +391,11 @@ impl Parser<'_> {
     /// `sphere { center V radius R modifiers }`.
     fn sphere(&mut self) -> R<Object> {
         let (mut c, mut r) = (None, None);
-        let (block, mods) = self.primitive_block("sphere", &["center", "radius"], |p, key, _| {
+        let (block, mods) = self.primitive_block("sphere", &["center", "radius"], |p, key, span| {
             match key {
                 "center" => c = Some(p.vector("sphere center")?),
-                _ => r = Some(p.real_f32("sphere radius", "a radius must be positive", |x| x > 0.0)?),
+                "radius" => r = Some(p.real_f32("sphere radius", "a radius must be positive", |x| x > 0.0)?),
+                other => return Err(p.unhandled(span, other, "sphere")),
             }
             Ok(())
         })?;

@@ -8,7 +8,7 @@ use super::lexer::{tokenize, Tok, Token};
 use super::objects::Object;
 use super::value::Value;
 use super::{MAX_EXPR_DEPTH, MAX_INCLUDE_DEPTH};
-use crate::{Camera, Environment, Light, Material, Settings};
+use crate::{Camera, Environment, Light, Material, Settings, Warning};
 use glam::DMat4;
 use std::collections::HashMap;
 use std::ops::Range;
@@ -106,6 +106,8 @@ pub(crate) struct State {
     pub sphere_detail: Option<u32>,
     /// Canonical paths of the files being read, outermost first (include cycle check).
     pub include_stack: Vec<PathBuf>,
+    /// Warnings of the mesh files read so far, in reading order.
+    pub warnings: Vec<Warning>,
 }
 
 /// Parser of one file.
@@ -252,6 +254,16 @@ impl<'s> Parser<'s> {
             self.bump();
             f(self, &key, span)?;
         }
+    }
+
+    /// The error for a key that [`Parser::block`] accepted (it is in the block's `allowed`
+    /// list) but the block's reader has no arm for. Every reader names each of its keys,
+    /// so this is a bug in dynray; it is reported at the key rather than panicking, and
+    /// rather than reading the value as some other key, which a catch-all arm once did.
+    pub(crate) fn unhandled(&self, span: Span, key: &str, what: &str) -> Diag {
+        self.err(span, format!("internal error: parameter `{key}` of `{what}` is accepted but not read"))
+            .label("dynray's reader for this block has no case for it")
+            .note("this is a bug in dynray; please report it with this file")
     }
 
     /// A `None` required parameter becomes an error at the block.

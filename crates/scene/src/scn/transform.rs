@@ -32,7 +32,7 @@ impl Parser<'_> {
         }
         let mut m = DMat4::IDENTITY;
         let ops = ["translate", "rotate", "rotate_x", "rotate_y", "rotate_z", "scale"];
-        self.block("transform", &ops, &ops, |p, key, _| {
+        self.block("transform", &ops, &ops, |p, key, span| {
             let step = match key {
                 "translate" => DMat4::from_translation(p.vector64("translation")?),
                 "rotate" => {
@@ -50,7 +50,7 @@ impl Parser<'_> {
                 "rotate_x" => DMat4::from_rotation_x(p.real("rotate_x angle (degrees)")?.to_radians()),
                 "rotate_y" => DMat4::from_rotation_y(p.real("rotate_y angle (degrees)")?.to_radians()),
                 "rotate_z" => DMat4::from_rotation_z(p.real("rotate_z angle (degrees)")?.to_radians()),
-                _ => {
+                "scale" => {
                     let base = p.vector64("scale base point")?;
                     let start = p.span().start;
                     let f = p.vector64("scale factors")?;
@@ -61,6 +61,7 @@ impl Parser<'_> {
                     }
                     scale_about(base, f)
                 }
+                other => return Err(p.unhandled(span, other, "transform")),
             };
             m = step * m;
             Ok(())

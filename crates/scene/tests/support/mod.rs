@@ -30,9 +30,10 @@ pub fn error_of(path: &Path) -> String {
     msg
 }
 
-pub fn one_mesh(s: &Scene) -> &dynray_geom::TriangleMesh {
+/// The only actor's mesh in world space (actors keep theirs in local space).
+pub fn one_mesh(s: &Scene) -> dynray_geom::TriangleMesh {
     assert_eq!(s.actors.len(), 1);
-    &s.actors[0].mesh
+    s.actors[0].world_mesh()
 }
 
 pub fn scenes_dir() -> PathBuf {

@@ -53,8 +53,8 @@
 //! `ambient = Ke / environment ambient`, so the lamp itself looks as bright as it emits.
 //! Files without emitters get the default light.
 
+use super::mtl::{self, MtlMaterial};
 use crate::load::{LoadReport, Warning};
-use crate::mtl::{self, MtlMaterial};
 use crate::{Actor, Color, Light, LightKind, LoadError, Material, Scene};
 use dynray_geom::{MeshError, TriangleMesh, Vec3};
 use std::path::Path;

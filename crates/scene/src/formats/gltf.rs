@@ -4,9 +4,10 @@
 //!   nodes; each node's local matrix (or TRS) is composed with its parents'. A file
 //!   without scenes gets every mesh once, untransformed, and a warning.
 //! - Each node with a mesh becomes one [`Actor`] (named after the node, else the mesh)
-//!   whose primitives are appended in order, with a material per triangle. Positions and
-//!   normals are transformed to world space; normals are kept when every primitive of
-//!   the mesh has them.
+//!   whose primitives are appended in order, with a material per triangle. The mesh stays
+//!   in the node's space and the node's world matrix becomes the actor's [`Transform`],
+//!   which the frame applies to positions and normals; normals are kept when every
+//!   primitive of the mesh has them.
 //! - Primitive modes: `TRIANGLES`, plus `TRIANGLE_STRIP` and `TRIANGLE_FAN` converted to
 //!   triangles in order; points and lines are skipped with a warning. Indexed and
 //!   non-indexed primitives are read.
@@ -26,7 +27,7 @@
 //!   before gltf-json's validation, which would panic on them.
 
 use crate::load::{LoadReport, Warning};
-use crate::{Actor, Finish, LoadError, Material, Scene};
+use crate::{Actor, Finish, LoadError, Material, Motion, Scene, Transform};
 use dynray_geom::{MeshError, TriangleMesh};
 use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::Mode;
@@ -117,7 +118,7 @@ pub fn load(path: &Path) -> Result<LoadReport, LoadError> {
         let mut materials = Vec::new();
         for prim in mesh.primitives() {
             let label = format!("mesh {} primitive {}", mesh.index(), prim.index());
-            let Some(mut part) = read_primitive(&prim, &buffers).map_err(|m| perr(format!("{label}: {m}")))? else {
+            let Some(part) = read_primitive(&prim, &buffers).map_err(|m| perr(format!("{label}: {m}")))? else {
                 warnings.push(Warning::new(
                     path,
                     None,
@@ -126,7 +127,6 @@ pub fn load(path: &Path) -> Result<LoadReport, LoadError> {
                 continue;
             };
             part.validate().map_err(|e| perr(format!("{label}: {e}")))?;
-            part.transform(&world);
             let material = match prim.material().index() {
                 Some(i) => i as u32,
                 None => *default_material.get_or_insert_with(|| {
@@ -144,8 +144,13 @@ pub fn load(path: &Path) -> Result<LoadReport, LoadError> {
         if actor_mesh.indices.is_empty() {
             continue;
         }
-        actor_mesh.validate().map_err(|source| LoadError::Mesh { path: path.to_path_buf(), source })?;
-        scene.actors.push(Actor { name, mesh: actor_mesh, materials });
+        // The node's world matrix stays on the actor (the frame applies it, as this loader
+        // once did per primitive: same matrix, same bits). `Transform::new` even for an
+        // identity matrix, because that is what was always applied.
+        let actor =
+            Actor { name, mesh: actor_mesh, materials, transform: Transform::new(world), motion: Motion::Static };
+        actor.world_mesh().validate().map_err(|source| LoadError::Mesh { path: path.to_path_buf(), source })?;
+        scene.actors.push(actor);
     }
     if scene.actors.is_empty() {
         return Err(LoadError::Mesh { path: path.to_path_buf(), source: MeshError::Empty });

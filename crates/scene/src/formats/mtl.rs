@@ -4,7 +4,7 @@
 //! dynray parses MTL itself rather than through tobj because tobj's MTL reader panics on
 //! a colour with fewer than three numbers and reports no line numbers.
 //!
-//! The mapping to [`Material`] is documented (as a table) in [`crate::obj`].
+//! The mapping to [`Material`] is documented (as a table) in [`super::obj`].
 //!
 //! A colour may be given as one number (grey) or three; `spectral` and `xyz` colours are
 //! not supported and give a warning. Texture maps, `Tf`, `sharpness` and every other

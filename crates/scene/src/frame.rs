@@ -1,0 +1,163 @@
+//! A [`Frame`]: the scene at one time `t`, flattened into one world-space mesh for the
+//! acceleration structures and integrators, and [`Scene::frame_into`], which fills it.
+//!
+//! Order is the contract structures rely on to refit instead of rebuilding: triangles
+//! come in actor order, then in each actor's own triangle order, for every `t`; vertices
+//! likewise. Nothing here depends on `t` yet. Animation plugs in per actor, where the
+//! actor's placement and vertices are read (see the comment in [`Scene::frame_into`]):
+//! a [`crate::Motion::Dynamic`] actor will get its transform, or its deformed local
+//! vertices, for `t` there, without changing its triangle count or order.
+
+use crate::{Camera, Environment, Light, Material, Projection, Scene, Settings};
+use dynray_geom::{TriangleMesh, Vec3};
+use std::ops::Range;
+
+/// One time step of a scene, flattened for the acceleration structures and integrators.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Frame {
+    /// All actors' triangles in world space, concatenated in actor order (triangle order
+    /// within each).
+    pub mesh: TriangleMesh,
+    /// Material index per triangle of `mesh`.
+    pub materials_of: Vec<u32>,
+    /// Materials.
+    pub materials: Vec<Material>,
+    /// Lights.
+    pub lights: Vec<Light>,
+    /// The camera (resolved: never absent).
+    pub camera: Camera,
+    /// Render settings.
+    pub settings: Settings,
+    /// Background, ambient, medium.
+    pub environment: Environment,
+    /// `actor_ranges[a]` is the range of triangle indices (into `mesh.indices` and
+    /// `materials_of`) that actor `a` of [`Scene::actors`] became: the ranges are in
+    /// actor order, contiguous, and cover every triangle, so a hit's triangle index
+    /// finds its actor by binary search ([`Frame::actor_of`]).
+    pub actor_ranges: Vec<Range<u32>>,
+    /// The time this frame was filled for, in seconds.
+    pub time: f32,
+}
+
+impl Default for Frame {
+    /// An empty frame to fill with [`Scene::frame_into`]. Its camera is a placeholder (at
+    /// `+z`, looking at the origin) that filling replaces.
+    fn default() -> Self {
+        Self {
+            mesh: TriangleMesh::default(),
+            materials_of: Vec::new(),
+            materials: Vec::new(),
+            lights: Vec::new(),
+            camera: Camera {
+                position: Vec3::Z,
+                look_at: Vec3::ZERO,
+                up: Vec3::Y,
+                projection: Projection::Perspective { fov_y_deg: 45.0 },
+            },
+            settings: Settings::default(),
+            environment: Environment::default(),
+            actor_ranges: Vec::new(),
+            time: 0.0,
+        }
+    }
+}
+
+impl Frame {
+    /// The actor (index into [`Scene::actors`]) that triangle `prim` of `mesh` belongs
+    /// to; `None` when `prim` is out of range (a miss is `u32::MAX`).
+    pub fn actor_of(&self, prim: u32) -> Option<usize> {
+        let a = self.actor_ranges.partition_point(|r| r.end <= prim);
+        self.actor_ranges.get(a).filter(|r| r.contains(&prim)).map(|_| a)
+    }
+}
+
+impl Scene {
+    /// The scene at time `t`, in a new [`Frame`]. Use [`Scene::frame_into`] to reuse one
+    /// frame's buffers from frame to frame.
+    pub fn frame(&self, t: f32) -> Frame {
+        let mut f = Frame::default();
+        self.frame_into(t, &mut f);
+        f
+    }
+
+    /// Fills `frame` with the scene at time `t` (seconds from the start of the scene's
+    /// animation; static scenes look the same at every `t`).
+    ///
+    /// Every buffer of `frame` is cleared and refilled in place, so a frame of the same
+    /// scene is filled again without allocating. Triangle and vertex order is the same
+    /// for every `t` (module docs). Actors without vertex normals get zero normals when
+    /// another actor has some: shading reads a zero normal as "use the triangle's
+    /// geometric normal" (seed 003 §3.1), so one mesh can mix both.
+    pub fn frame_into(&self, t: f32, frame: &mut Frame) {
+        let Frame { mesh, materials_of, actor_ranges, .. } = frame;
+        mesh.positions.clear();
+        mesh.indices.clear();
+        materials_of.clear();
+        actor_ranges.clear();
+        let any_normals = self.actors.iter().any(|a| a.mesh.normals.is_some());
+        let keep_uvs = uvs_survive(self);
+        let mut normals = mesh.normals.take().unwrap_or_default();
+        normals.clear();
+        let mut uvs = mesh.uvs.take().unwrap_or_default();
+        uvs.clear();
+        for a in &self.actors {
+            // Animation plugs in here: a `Motion::Dynamic` actor's transform (keyframes,
+            // glTF node animation) or local vertices (skins, morphs, physics) at `t`
+            // replace `a.transform` / `a.mesh.positions` below. Static actors, and every
+            // actor today, are read as they are.
+            let base = mesh.positions.len() as u32;
+            let first = mesh.indices.len() as u32;
+            if a.transform.is_identity() {
+                mesh.positions.extend_from_slice(&a.mesh.positions);
+            } else {
+                mesh.positions.extend(a.mesh.positions.iter().map(|&p| a.transform.point(p)));
+            }
+            mesh.indices.extend(a.mesh.indices.iter().map(|t| t.map(|i| i + base)));
+            materials_of.extend_from_slice(&a.materials);
+            if any_normals {
+                match &a.mesh.normals {
+                    Some(n) if a.transform.is_identity() => normals.extend_from_slice(n),
+                    Some(n) => {
+                        let to_world = a.transform.normal_fn();
+                        normals.extend(n.iter().map(|&v| to_world(v)));
+                    }
+                    None => normals.resize(normals.len() + a.mesh.vertex_count(), [0.0; 3]),
+                }
+            }
+            if keep_uvs {
+                // Actors without uvs have no vertices here (see `uvs_survive`).
+                uvs.extend_from_slice(a.mesh.uvs.as_deref().unwrap_or_default());
+            }
+            actor_ranges.push(first..mesh.indices.len() as u32);
+        }
+        mesh.normals = any_normals.then_some(normals);
+        mesh.uvs = keep_uvs.then_some(uvs);
+        frame.materials.clone_from(&self.materials);
+        if frame.materials.is_empty() {
+            frame.materials.push(Material::default());
+        }
+        frame.lights.clone_from(&self.lights);
+        frame.camera = self.camera.unwrap_or_else(|| Camera::framing(&frame.mesh.bounds()));
+        frame.settings = self.settings;
+        frame.environment = self.environment;
+        frame.time = t;
+    }
+}
+
+/// Whether the frame keeps texture coordinates. The frame once concatenated actors with
+/// [`TriangleMesh::append`], which keeps uvs only while every mesh appended after the
+/// first vertex has them; this is that rule, kept so frames stay what they were. In
+/// practice: uvs survive when every actor with vertices has them.
+fn uvs_survive(scene: &Scene) -> bool {
+    let mut keep = false;
+    let mut vertices = 0usize;
+    for a in &scene.actors {
+        keep = match (keep, a.mesh.uvs.is_some()) {
+            (true, true) => true,
+            (false, true) => vertices == 0,
+            (_, false) => false,
+        };
+        vertices += a.mesh.vertex_count();
+    }
+    keep
+}
