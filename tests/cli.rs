@@ -223,3 +223,32 @@ fn unknown_structure_is_a_usage_error() {
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("unknown structure"), "{}", stderr(&o));
 }
+
+#[test]
+fn closed_stdout_pipe_exits_quietly() {
+    // `dynray info bunny | head -1`: the reader goes away before dynray writes.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_dynray"))
+        .args(["info", &bunny()])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("run dynray");
+    drop(child.stdout.take());
+    let o = child.wait_with_output().expect("wait for dynray");
+    let err = stderr(&o);
+    assert!(o.status.success(), "exit {:?}: {err}", o.status);
+    assert!(err.is_empty(), "a closed pipe should print nothing: {err}");
+}
+
+#[test]
+fn errors_print_each_cause_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let fake = dir.path().join("dir.ply");
+    std::fs::create_dir(&fake).unwrap();
+    let o = dynray(&["info", fake.to_str().unwrap()]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("dir.ply"), "{err}");
+    let cause = "os error 21";
+    assert_eq!(err.matches(cause).count(), 1, "the cause is repeated: {err}");
+}
