@@ -3,6 +3,7 @@
 use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::{Args, Parser, Subcommand};
 use dynray_accel::AccelKind;
+use dynray_bench::{Preset, RayKind};
 use dynray_render::{Aov, IntegratorKind};
 use std::path::PathBuf;
 
@@ -120,9 +121,9 @@ pub struct BenchArgs {
     /// `bvh,bih:max_prims=5,shrink=off` (default: every registered structure but brute).
     #[arg(long, value_name = "LIST")]
     pub accels: Option<String>,
-    /// Ray kinds: any of primary, shadow, diffuse, random (default: all four).
-    #[arg(long, value_name = "LIST")]
-    pub rays: Option<String>,
+    /// Comma-separated ray kinds (default: every kind).
+    #[arg(long, value_name = "LIST", value_delimiter = ',', value_parser = ray_kind_parser())]
+    pub rays: Option<Vec<RayKind>>,
     /// Image width of the ray sets and renders (default 640; --quick 128).
     #[arg(long)]
     pub width: Option<u32>,
@@ -132,8 +133,8 @@ pub struct BenchArgs {
     /// Timed repetitions after one warm-up; medians are reported (default 5; --quick 1).
     #[arg(long)]
     pub repeat: Option<usize>,
-    /// standard (default), seed003, dynamic, or all.
-    #[arg(long, value_name = "NAME")]
+    /// Which experiment to run (default: standard); `all` runs every one.
+    #[arg(long, value_name = "NAME", value_parser = preset_parser())]
     pub preset: Option<String>,
     /// Output folder.
     #[arg(long, default_value = "results")]
@@ -158,6 +159,17 @@ pub struct BenchArgs {
     /// (after a change of layout; heat maps are kept).
     #[arg(long, value_name = "DIR", conflicts_with_all = ["scenes", "accels", "rays", "preset", "quick"])]
     pub replot: Option<PathBuf>,
+}
+
+/// `--rays` values, listed from the bench's own registry of ray kinds.
+fn ray_kind_parser() -> impl TypedValueParser<Value = RayKind> {
+    PossibleValuesParser::new(RayKind::ALL.map(RayKind::name))
+        .map(|s| s.parse::<RayKind>().expect("listed names parse"))
+}
+
+/// `--preset` values: every preset the bench has, and `all`.
+fn preset_parser() -> PossibleValuesParser {
+    PossibleValuesParser::new(Preset::ALL.iter().map(|p| p.name()).chain(["all"]))
 }
 
 fn parse_accel(s: &str) -> Result<AccelKind, String> {

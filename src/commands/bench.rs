@@ -3,7 +3,7 @@
 
 use crate::cli::BenchArgs;
 use anyhow::{bail, Result};
-use dynray_bench::{parse_accels, run::mismatch_summary, BenchConfig, Preset, RayKind};
+use dynray_bench::{parse_accels, run::mismatch_summary, BenchConfig, Preset};
 
 /// Largest image edge accepted.
 const MAX_EDGE: u32 = 1 << 14;
@@ -46,12 +46,16 @@ fn config(a: BenchArgs) -> Result<BenchConfig> {
     if let Some(s) = &a.accels {
         c.accels = parse_accels(s)?;
     }
-    if let Some(s) = &a.rays {
-        c.rays = list(s).iter().map(|k| k.parse::<RayKind>()).collect::<Result<_, _>>().map_err(anyhow::Error::msg)?;
-        if c.rays.is_empty() {
-            bail!("--rays: no ray kind named");
-        }
-        c.rays.dedup();
+    if let Some(rays) = a.rays {
+        c.rays = rays;
+        // Each kind once, in the order first named.
+        let mut seen = Vec::new();
+        c.rays.retain(|k| {
+            !seen.contains(k) && {
+                seen.push(*k);
+                true
+            }
+        });
     }
     if let Some(w) = a.width {
         c.width = w;
