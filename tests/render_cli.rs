@@ -133,8 +133,8 @@ fn normal_and_albedo_aovs_are_rgb_exr() {
             layer.channel_data.list.iter().map(|c| c.sample_data.values_as_f32().collect()).collect();
         if aov == "normal" {
             // Every pixel is a unit normal or zero (sky).
-            for i in 0..values[0].len() {
-                let len = (values[0][i].powi(2) + values[1][i].powi(2) + values[2][i].powi(2)).sqrt();
+            for (i, ((a, b), c)) in values[0].iter().zip(&values[1]).zip(&values[2]).enumerate() {
+                let len = (a * a + b * b + c * c).sqrt();
                 assert!(len == 0.0 || (len - 1.0).abs() < 1e-4, "pixel {i}: |n| = {len}");
             }
         } else {
