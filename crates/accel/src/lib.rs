@@ -8,6 +8,7 @@
 
 mod accel;
 pub mod apit;
+pub mod batch;
 pub mod bih;
 pub mod brute;
 pub mod bvh;
@@ -18,8 +19,9 @@ pub mod kdtree;
 pub mod octree;
 mod registry;
 
-pub use accel::{intersect_batch, occluded_batch, Accel, AccelStats};
+pub use accel::{Accel, AccelStats};
 pub use apit::{ABuffer, Apit, ApitParams, Fragment};
+pub use batch::{BatchQuery, BATCH_CHUNK};
 pub use bih::{Bih, BihParams};
 pub use brute::Brute;
 pub use bvh::{Bvh, BvhParams};

@@ -5,17 +5,13 @@ use crate::rays::{RayKind, RaySets};
 use crate::report::{median, KindResult, Mismatch, StructureResult, Work};
 use crate::variant::AccelVariant;
 use anyhow::{Context, Result};
-use dynray_accel::{Accel, TraversalCounts};
+use dynray_accel::{Accel, BatchQuery, TraversalCounts};
 use dynray_geom::{Hit, Ray};
 use dynray_render::{render, RenderOptions};
 use dynray_scene::Frame;
 use rayon::prelude::*;
 use std::hint::black_box;
 use std::time::Instant;
-
-/// Rays per rayon task in the timed passes: large enough that scheduling costs nothing,
-/// small enough to balance incoherent rays over the threads.
-const CHUNK: usize = 1024;
 
 /// Brute force's answers for the sampled rays of one kind.
 pub struct Expected {
@@ -124,15 +120,24 @@ pub fn ms(t: Instant) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
 }
 
-/// One timed pass over `rays` on the current rayon pool, ms; returns the hit count too.
-pub fn timed_pass(accel: &dyn Accel, rays: &[Ray], shadow: bool) -> (f64, usize) {
-    let t = Instant::now();
-    let hits: usize = if shadow {
-        rays.par_chunks(CHUNK).map(|c| c.iter().filter(|r| accel.occluded(r)).count()).sum()
+/// One timed closest-hit or any-hit pass over `rays` through [`BatchQuery`], the trait
+/// our structures and the competitors' adapters share, on the current rayon pool; returns
+/// ms and the hit count. The answer buffer is allocated (and its pages touched) before the
+/// timer starts and the hits are counted after it stops, so the time is the queries' alone.
+pub fn timed_pass<Q: BatchQuery + ?Sized>(q: &Q, rays: &[Ray], shadow: bool) -> (f64, usize) {
+    if shadow {
+        let mut out = vec![false; rays.len()];
+        let t = Instant::now();
+        q.occluded_into(rays, &mut out);
+        let elapsed = ms(t);
+        (elapsed, black_box(out.iter().filter(|o| **o).count()))
     } else {
-        rays.par_chunks(CHUNK).map(|c| c.iter().filter(|r| accel.intersect(r).is_hit()).count()).sum()
-    };
-    (ms(t), black_box(hits))
+        let mut hits = vec![Hit::MISS; rays.len()];
+        let t = Instant::now();
+        q.intersect_into(rays, &mut hits);
+        let elapsed = ms(t);
+        (elapsed, black_box(hits.iter().filter(|h| h.is_hit()).count()))
+    }
 }
 
 /// What a counted closest-hit pass found: per-ray work (nodes + triangles, for the heat

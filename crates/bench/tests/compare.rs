@@ -2,8 +2,8 @@
 //! agree with brute force on at least 99.9 % of the checked rays, per competitor and kind.
 #![cfg(feature = "compare")]
 
-use dynray_accel::{AccelKind, Brute};
-use dynray_bench::compare::{self, MISS};
+use dynray_accel::{AccelKind, BatchQuery, Brute};
+use dynray_bench::compare;
 use dynray_bench::measure::oracle;
 use dynray_bench::{rays, scenes, AccelVariant, RayKind};
 
@@ -77,12 +77,12 @@ fn every_competitor_agrees_with_brute_force_on_the_bunny() {
 fn a_broken_answer_is_seen_as_disagreement() {
     // The agreement measure itself: a "library" that always misses must not pass.
     struct AlwaysMiss;
-    impl compare::Traceable for AlwaysMiss {
-        fn memory_bytes(&self) -> Option<usize> {
-            None
+    impl BatchQuery for AlwaysMiss {
+        fn intersect_into(&self, _rays: &[dynray_geom::Ray], hits: &mut [dynray_geom::Hit]) {
+            hits.fill(dynray_geom::Hit::MISS);
         }
-        fn closest(&self, _rays: &[dynray_geom::Ray], out: &mut [(f32, u32)]) {
-            out.fill((f32::INFINITY, MISS));
+        fn occluded_into(&self, _rays: &[dynray_geom::Ray], out: &mut [bool]) {
+            out.fill(false);
         }
     }
     let dir = scenes::scenes_dir(None);
