@@ -1,7 +1,7 @@
 //! Command-line grammar (clap). Raw arguments only; validation happens in `commands/`.
 
 use clap::{Args, Parser, Subcommand};
-use dynray_accel::AccelKind;
+use dynray_accel::AccelSpec;
 use std::path::PathBuf;
 
 /// Ray tracing of dynamic scenes with GPU-friendly acceleration structures.
@@ -49,9 +49,10 @@ pub struct RenderArgs {
     /// Secondary rays at or below this weight are not traced (overrides `min_weight`).
     #[arg(long)]
     pub min_weight: Option<f32>,
-    /// Acceleration structure.
+    /// Acceleration structure: `NAME[:key=value,…]` or `NAME:PRESET` (docs/bench.md,
+    /// "Structure parameters").
     #[arg(long, default_value = "bvh", value_parser = parse_accel)]
-    pub accel: AccelKind,
+    pub accel: AccelSpec,
 }
 
 /// `dynray trace-rays`.
@@ -65,9 +66,10 @@ pub struct TraceRaysArgs {
     /// Output .npz with `t`, `prim`, `u`, `v` (or `occluded` with --occluded).
     #[arg(short, long, value_name = "HITS.npz")]
     pub output: PathBuf,
-    /// Acceleration structure.
+    /// Acceleration structure: `NAME[:key=value,…]` or `NAME:PRESET` (docs/bench.md,
+    /// "Structure parameters").
     #[arg(long, default_value = "bvh", value_parser = parse_accel)]
-    pub accel: AccelKind,
+    pub accel: AccelSpec,
     /// Any-hit queries: write one boolean `occluded` per ray instead of closest hits.
     #[arg(long)]
     pub occluded: bool,
@@ -78,9 +80,9 @@ pub struct TraceRaysArgs {
 pub struct InfoArgs {
     /// Scene or mesh file.
     pub file: PathBuf,
-    /// Structure to build and describe.
+    /// Structure to build and describe: `NAME[:key=value,…]` or `NAME:PRESET`.
     #[arg(long, default_value = "bvh", value_parser = parse_accel)]
-    pub accel: AccelKind,
+    pub accel: AccelSpec,
 }
 
 /// `dynray bench` (docs/bench.md). Threads come from the global `--threads`.
@@ -134,6 +136,8 @@ pub struct BenchArgs {
     pub replot: Option<PathBuf>,
 }
 
-fn parse_accel(s: &str) -> Result<AccelKind, String> {
-    s.parse()
+/// `--accel NAME[:key=value,…]`, keys and values checked at parse time (clap then exits
+/// with status 2 and names the flag).
+fn parse_accel(s: &str) -> Result<AccelSpec, String> {
+    s.parse().map_err(|e: dynray_accel::BuildError| e.to_string())
 }

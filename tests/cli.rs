@@ -208,3 +208,15 @@ fn unknown_structure_is_a_usage_error() {
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("unknown structure"), "{}", stderr(&o));
 }
+
+#[test]
+fn accel_parameters_reach_the_structure_and_bad_keys_are_usage_errors() {
+    let o = dynray(&["info", &bunny(), "--accel", "bih:max_prims=5"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.lines().any(|l| l.split_whitespace().collect::<Vec<_>>() == ["max_prims", "5"]), "{out}");
+    let o = dynray(&["info", &bunny(), "--accel", "bih:leaf=4"]);
+    assert_eq!(o.status.code(), Some(2));
+    let e = stderr(&o);
+    assert!(e.contains("--accel") && e.contains("bih: unknown parameter `leaf` (known: preset, max_prims"), "{e}");
+}

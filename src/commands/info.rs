@@ -22,7 +22,7 @@ pub fn run(a: InfoArgs) -> Result<()> {
         b.min.x, b.min.y, b.min.z, b.max.x, b.max.y, b.max.z
     );
     let t0 = Instant::now();
-    let accel = a.accel.build(mesh).with_context(|| format!("{}: cannot build {}", a.file.display(), a.accel))?;
+    let accel = a.accel.build(mesh, None).with_context(|| format!("{}: cannot build {}", a.file.display(), a.accel))?;
     let build_ms = t0.elapsed().as_secs_f64() * 1e3;
     let s = accel.stats();
     println!();

@@ -19,7 +19,7 @@ pub fn run(a: TraceRaysArgs) -> Result<()> {
     let frame = super::load_scene(&a.mesh)?.frame(0.0);
     let t0 = Instant::now();
     let accel =
-        a.accel.build(&frame.mesh).with_context(|| format!("{}: cannot build {}", a.mesh.display(), a.accel))?;
+        a.accel.build(&frame.mesh, None).with_context(|| format!("{}: cannot build {}", a.mesh.display(), a.accel))?;
     let build = t0.elapsed();
     let t1 = Instant::now();
     if a.occluded {

@@ -18,6 +18,8 @@ pub mod grid;
 pub mod kdtree;
 pub mod octree;
 mod registry;
+mod spec;
+pub mod structure_params;
 
 pub use accel::{Accel, AccelStats};
 pub use apit::{ABuffer, Apit, ApitParams, Fragment};
@@ -31,3 +33,5 @@ pub use grid::{Grid, GridParams};
 pub use kdtree::{KdTree, KdTreeParams, KdTreeRopes};
 pub use octree::{Octree, OctreeDescent, OctreeParams};
 pub use registry::AccelKind;
+pub use spec::{AccelSpec, BruteParams};
+pub use structure_params::{ParamKey, StructureParams};

@@ -3,8 +3,8 @@
 
 use crate::rays::{RayKind, RaySets};
 use crate::report::{median, KindResult, Mismatch, StructureResult, Work};
-use crate::variant::AccelVariant;
 use anyhow::{Context, Result};
+use dynray_accel::AccelSpec;
 use dynray_accel::{Accel, BatchQuery, TraversalCounts};
 use dynray_geom::{Hit, Ray};
 use dynray_render::{render, RenderOptions};
@@ -103,13 +103,13 @@ fn describe(h: &Hit) -> String {
 
 /// Builds `v` once as a warm-up, then `repeat` more times; returns the last structure and
 /// the timed builds in ms.
-pub fn timed_builds(v: &AccelVariant, frame: &Frame, repeat: usize) -> Result<(Box<dyn Accel>, Vec<f64>)> {
-    let mut accel = v.build_in(frame)?;
+pub fn timed_builds(v: &AccelSpec, frame: &Frame, repeat: usize) -> Result<(Box<dyn Accel>, Vec<f64>)> {
+    let mut accel = v.build(&frame.mesh, Some(frame.camera.position))?;
     let mut times = Vec::with_capacity(repeat);
     for _ in 0..repeat.max(1) {
         drop(accel);
         let t = Instant::now();
-        accel = v.build_in(frame)?;
+        accel = v.build(&frame.mesh, Some(frame.camera.position))?;
         times.push(ms(t));
     }
     Ok((accel, times))
@@ -204,12 +204,12 @@ pub struct MeasureInput<'a> {
 /// Everything about one structure on one scene; per-pixel work of the primary rays is
 /// returned for the heat map (when primary rays were measured).
 pub fn measure(
-    v: &AccelVariant,
+    v: &AccelSpec,
     input: &MeasureInput<'_>,
     mismatches: &mut Vec<Mismatch>,
     step: &dyn Fn(&str),
 ) -> Result<(StructureResult, Option<Vec<u32>>)> {
-    let label = v.label();
+    let label = v.to_string();
     step("build");
     let (accel, build_ms_runs) =
         timed_builds(v, input.frame, input.repeat).with_context(|| format!("{}: cannot build {label}", input.scene))?;
@@ -284,7 +284,7 @@ pub fn measure(
 
 /// Build + Whitted render at the bench size, `repeat` times: medians of the whole and of
 /// the render alone, and the rays the render traced.
-fn time_to_image(v: &AccelVariant, input: &MeasureInput<'_>, step: &dyn Fn(&str)) -> Result<TimeToImage> {
+fn time_to_image(v: &AccelSpec, input: &MeasureInput<'_>, step: &dyn Fn(&str)) -> Result<TimeToImage> {
     step("render");
     let mut frame = input.frame.clone();
     frame.settings.width = input.width;
@@ -293,7 +293,7 @@ fn time_to_image(v: &AccelVariant, input: &MeasureInput<'_>, step: &dyn Fn(&str)
     let mut render_rays = 0;
     for _ in 0..input.repeat.max(1) {
         let t = Instant::now();
-        let accel = v.build_in(&frame)?;
+        let accel = v.build(&frame.mesh, Some(frame.camera.position))?;
         let t_render = Instant::now();
         let (film, stats) = render(&frame, accel.as_ref(), &RenderOptions::default());
         black_box(film);
