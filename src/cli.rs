@@ -2,7 +2,7 @@
 
 use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::{Args, Parser, Subcommand};
-use dynray_accel::AccelKind;
+use dynray_accel::AccelSpec;
 use dynray_bench::{Preset, RayKind};
 use dynray_render::{Aov, IntegratorKind};
 use std::path::PathBuf;
@@ -52,9 +52,10 @@ pub struct RenderArgs {
     /// Secondary rays at or below this weight are not traced (overrides `min_weight`).
     #[arg(long)]
     pub min_weight: Option<f32>,
-    /// Acceleration structure.
+    /// Acceleration structure: `NAME[:key=value,…]` or `NAME:PRESET` (docs/bench.md,
+    /// "Structure parameters").
     #[arg(long, default_value = "bvh", value_parser = parse_accel)]
-    pub accel: AccelKind,
+    pub accel: AccelSpec,
     /// How pixel samples are computed.
     #[arg(long, default_value = "whitted", value_parser = PossibleValuesParser::new(IntegratorKind::NAMES)
         .map(|s| s.parse::<IntegratorKind>().expect("listed names parse")))]
@@ -92,9 +93,10 @@ pub struct TraceRaysArgs {
     /// Output .npz with `t`, `prim`, `u`, `v` (or `occluded` with --occluded).
     #[arg(short, long, value_name = "HITS.npz")]
     pub output: PathBuf,
-    /// Acceleration structure.
+    /// Acceleration structure: `NAME[:key=value,…]` or `NAME:PRESET` (docs/bench.md,
+    /// "Structure parameters").
     #[arg(long, default_value = "bvh", value_parser = parse_accel)]
-    pub accel: AccelKind,
+    pub accel: AccelSpec,
     /// Any-hit queries: write one boolean `occluded` per ray instead of closest hits.
     #[arg(long)]
     pub occluded: bool,
@@ -105,9 +107,9 @@ pub struct TraceRaysArgs {
 pub struct InfoArgs {
     /// Scene or mesh file.
     pub file: PathBuf,
-    /// Structure to build and describe.
+    /// Structure to build and describe: `NAME[:key=value,…]` or `NAME:PRESET`.
     #[arg(long, default_value = "bvh", value_parser = parse_accel)]
-    pub accel: AccelKind,
+    pub accel: AccelSpec,
 }
 
 /// `dynray bench` (docs/bench.md). Threads come from the global `--threads`.
@@ -172,6 +174,8 @@ fn preset_parser() -> PossibleValuesParser {
     PossibleValuesParser::new(Preset::ALL.iter().map(|p| p.name()).chain(["all"]))
 }
 
-fn parse_accel(s: &str) -> Result<AccelKind, String> {
-    s.parse()
+/// `--accel NAME[:key=value,…]`, keys and values checked at parse time (clap then exits
+/// with status 2 and names the flag).
+fn parse_accel(s: &str) -> Result<AccelSpec, String> {
+    s.parse().map_err(|e: dynray_accel::BuildError| e.to_string())
 }

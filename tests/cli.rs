@@ -251,4 +251,13 @@ fn errors_print_each_cause_once() {
     assert!(err.contains("dir.ply"), "{err}");
     let cause = "os error 21";
     assert_eq!(err.matches(cause).count(), 1, "the cause is repeated: {err}");
+fn accel_parameters_reach_the_structure_and_bad_keys_are_usage_errors() {
+    let o = dynray(&["info", &bunny(), "--accel", "bih:max_prims=5"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.lines().any(|l| l.split_whitespace().collect::<Vec<_>>() == ["max_prims", "5"]), "{out}");
+    let o = dynray(&["info", &bunny(), "--accel", "bih:leaf=4"]);
+    assert_eq!(o.status.code(), Some(2));
+    let e = stderr(&o);
+    assert!(e.contains("--accel") && e.contains("bih: unknown parameter `leaf` (known: preset, max_prims"), "{e}");
 }

@@ -31,7 +31,7 @@ pub fn run(a: InfoArgs) -> Result<()> {
     // Show the file's figures before a long build.
     out.flush()?;
     let t0 = Instant::now();
-    let accel = a.accel.build(mesh).with_context(|| format!("{}: cannot build {}", a.file.display(), a.accel))?;
+    let accel = a.accel.build(mesh, None).with_context(|| format!("{}: cannot build {}", a.file.display(), a.accel))?;
     let build_ms = t0.elapsed().as_secs_f64() * 1e3;
     let s = accel.stats();
     writeln!(out)?;

@@ -49,7 +49,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
     let t0 = Instant::now();
     let accel = a
         .accel
-        .build_for_eye(&frame.mesh, frame.camera.position)
+        .build(&frame.mesh, Some(frame.camera.position))
         .with_context(|| format!("{label}: cannot build {}", a.accel))?;
     let build = t0.elapsed();
 

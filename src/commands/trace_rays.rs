@@ -7,7 +7,7 @@
 
 use crate::cli::TraceRaysArgs;
 use anyhow::{bail, Context, Result};
-use dynray_accel::{intersect_batch, occluded_batch};
+use dynray_accel::BatchQuery;
 use dynray_geom::{Ray, Vec3};
 use npyz::WriterBuilder;
 use std::io::{BufWriter, Write};
@@ -19,11 +19,11 @@ pub fn run(a: TraceRaysArgs) -> Result<()> {
     let frame = super::load_scene(&a.mesh)?.frame(0.0);
     let t0 = Instant::now();
     let accel =
-        a.accel.build(&frame.mesh).with_context(|| format!("{}: cannot build {}", a.mesh.display(), a.accel))?;
+        a.accel.build(&frame.mesh, None).with_context(|| format!("{}: cannot build {}", a.mesh.display(), a.accel))?;
     let build = t0.elapsed();
     let t1 = Instant::now();
     if a.occluded {
-        let occ = occluded_batch(accel.as_ref(), &rays);
+        let occ = accel.occluded_batch(&rays);
         let trace = t1.elapsed();
         write_npz(&a.output, |npz| write_array(npz, "occluded", &occ))?;
         eprintln!(
@@ -35,7 +35,7 @@ pub fn run(a: TraceRaysArgs) -> Result<()> {
             trace.as_secs_f64() * 1e3
         );
     } else {
-        let hits = intersect_batch(accel.as_ref(), &rays);
+        let hits = accel.intersect_batch(&rays);
         let trace = t1.elapsed();
         let t: Vec<f32> = hits.iter().map(|h| h.t).collect();
         let prim: Vec<i64> = hits.iter().map(|h| if h.is_hit() { h.prim as i64 } else { -1 }).collect();

@@ -5,7 +5,7 @@
 //! Set `DYNRAY_SCENES` when the scenes are not at `../shared/scenes`.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use dynray_accel::{intersect_batch, occluded_batch, Accel, Bvh, BvhParams};
+use dynray_accel::{Accel, BatchQuery, Bvh, BvhParams};
 use dynray_geom::{Ray, TriangleMesh, Vec3};
 use dynray_scene::{Camera, Projection};
 use std::path::PathBuf;
@@ -64,7 +64,7 @@ fn bench_model(c: &mut Criterion, name: &str, rel: &str) {
         g.bench_function(format!("build/{preset}"), |b| b.iter(|| Bvh::build(&mesh, &p).unwrap()));
         let bvh = Bvh::build(&mesh, &p).unwrap();
         let s = bvh.stats();
-        let hits = intersect_batch(&bvh, &rays).iter().filter(|h| h.is_hit()).count();
+        let hits = bvh.intersect_batch(&rays).iter().filter(|h| h.is_hit()).count();
         eprintln!(
             "{name}/{preset}: {} tris, {} nodes, depth {}, SAH {:.2}, {:.1} MB, {hits} of {} primary rays hit",
             mesh.triangle_count(),
@@ -75,9 +75,9 @@ fn bench_model(c: &mut Criterion, name: &str, rel: &str) {
             rays.len()
         );
         g.throughput(Throughput::Elements(rays.len() as u64));
-        g.bench_function(format!("primary/{preset}"), |b| b.iter(|| intersect_batch(&bvh, &rays)));
+        g.bench_function(format!("primary/{preset}"), |b| b.iter(|| bvh.intersect_batch(&rays)));
         if preset == "default" {
-            g.bench_function("occluded/default", |b| b.iter(|| occluded_batch(&bvh, &rays)));
+            g.bench_function("occluded/default", |b| b.iter(|| bvh.occluded_batch(&rays)));
         }
     }
     g.finish();

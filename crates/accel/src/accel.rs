@@ -2,7 +2,6 @@
 
 use crate::{BuildError, TraversalCounts};
 use dynray_geom::{Hit, Ray, TriangleMesh};
-use rayon::prelude::*;
 
 /// A ray-query structure over one triangle mesh.
 ///
@@ -59,14 +58,4 @@ pub struct AccelStats {
     pub memory_bytes: usize,
     /// Structure-specific figures, as (name, value) for display.
     pub extra: Vec<(String, String)>,
-}
-
-/// Closest hits of many rays, in parallel, in ray order.
-pub fn intersect_batch(accel: &dyn Accel, rays: &[Ray]) -> Vec<Hit> {
-    rays.par_iter().with_min_len(256).map(|r| accel.intersect(r)).collect()
-}
-
-/// Any-hit answers of many rays, in parallel, in ray order.
-pub fn occluded_batch(accel: &dyn Accel, rays: &[Ray]) -> Vec<bool> {
-    rays.par_iter().with_min_len(256).map(|r| accel.occluded(r)).collect()
 }

@@ -8,6 +8,7 @@
 
 mod accel;
 pub mod apit;
+pub mod batch;
 pub mod bih;
 pub mod brute;
 pub mod bvh;
@@ -17,9 +18,12 @@ pub mod grid;
 pub mod kdtree;
 pub mod octree;
 mod registry;
+mod spec;
+pub mod structure_params;
 
-pub use accel::{intersect_batch, occluded_batch, Accel, AccelStats};
+pub use accel::{Accel, AccelStats};
 pub use apit::{ABuffer, Apit, ApitParams, Fragment};
+pub use batch::{BatchQuery, BATCH_CHUNK};
 pub use bih::{Bih, BihParams};
 pub use brute::Brute;
 pub use bvh::{Bvh, BvhParams};
@@ -29,3 +33,5 @@ pub use grid::{Grid, GridParams};
 pub use kdtree::{KdTree, KdTreeParams, KdTreeRopes};
 pub use octree::{Octree, OctreeDescent, OctreeParams};
 pub use registry::AccelKind;
+pub use spec::{AccelSpec, BruteParams};
+pub use structure_params::{ParamKey, StructureParams};

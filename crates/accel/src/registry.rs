@@ -1,9 +1,6 @@
-//! Choosing a structure by name (`--accel NAME`) and building it with default parameters.
+//! Choosing a structure by name (`--accel NAME`); [`AccelSpec`] adds its parameters.
 
-use crate::{
-    ABuffer, Accel, Apit, ApitParams, Bih, BihParams, Brute, BuildError, Bvh, BvhParams, Grid, GridParams, KdTree,
-    KdTreeRopes, Octree, OctreeDescent, OctreeParams,
-};
+use crate::{Accel, AccelSpec, BuildError};
 use dynray_geom::{TriangleMesh, Vec3};
 
 /// Every structure the engine offers, by the name `--accel` accepts.
@@ -62,32 +59,17 @@ impl AccelKind {
         }
     }
 
-    /// Builds the structure over `mesh` with its default parameters.
+    /// Builds the structure over `mesh` with its default parameters (shorthand for
+    /// [`AccelSpec::build`] without parameters or eye).
     pub fn build(self, mesh: &TriangleMesh) -> Result<Box<dyn Accel>, BuildError> {
-        Ok(match self {
-            AccelKind::Brute => Box::new(Brute::build(mesh)?),
-            AccelKind::Bih => Box::new(Bih::build(mesh, &BihParams::default())?),
-            AccelKind::Grid => Box::new(Grid::build(mesh, &GridParams::default())?),
-            AccelKind::KdTree => Box::new(KdTree::build(mesh)?),
-            AccelKind::KdTreeRopes => Box::new(KdTreeRopes::build(mesh)?),
-            AccelKind::Bvh => Box::new(Bvh::build(mesh, &BvhParams::default())?),
-            AccelKind::Octree => Box::new(Octree::build(mesh, &OctreeParams::default())?),
-            AccelKind::OctreeDescent => Box::new(OctreeDescent::build(mesh, &OctreeParams::default())?),
-            AccelKind::Apit => Box::new(Apit::build(mesh, &ApitParams::default())?),
-            AccelKind::ABuffer => Box::new(ABuffer::build(mesh, &ApitParams::default())?),
-        })
+        AccelSpec::new(self).build(mesh, None)
     }
 
     /// Builds the structure for rendering a view from `eye`. The A-PIT and the A-buffer
     /// centre their cube of A-buffers there, as seed 004 does (primary rays then start at
     /// the observer); every other structure is view-independent and ignores `eye`.
     pub fn build_for_eye(self, mesh: &TriangleMesh, eye: Vec3) -> Result<Box<dyn Accel>, BuildError> {
-        let params = ApitParams::default().with_observer(eye);
-        Ok(match self {
-            AccelKind::Apit => Box::new(Apit::build(mesh, &params)?),
-            AccelKind::ABuffer => Box::new(ABuffer::build(mesh, &params)?),
-            _ => self.build(mesh)?,
-        })
+        AccelSpec::new(self).build(mesh, Some(eye))
     }
 }
 

@@ -5,6 +5,7 @@
 mod support;
 
 use dynray_accel::apit::{IntervalForest, NONE};
+use dynray_accel::StructureParams;
 use dynray_accel::{ABuffer, Accel, Apit, ApitParams, Fragment};
 use dynray_geom::{Ray, TriangleMesh, Vec3};
 use rand::{rngs::SmallRng, Rng, SeedableRng};
@@ -141,7 +142,7 @@ fn every_preset_and_odd_resolutions_match_on_bunny() {
     rays.extend(adversarial_rays(&mesh, 2_000, 22));
     rays.extend(observer_rays(&mesh, c, 2_000, 23));
     let odd = [1, 3, 17].map(|r| ApitParams { resolution: r, ..ApitParams::default() });
-    for p in ApitParams::presets().into_iter().chain(odd) {
+    for p in ApitParams::presets().into_iter().map(|(_, p)| p).chain(odd) {
         check_both(&mesh, &p, &rays, &format!("bunny, R={}", p.resolution));
     }
 }
@@ -228,7 +229,7 @@ fn degenerate_with(mesh: &TriangleMesh, label: &str, max_bytes: usize, n: usize)
 fn params_observer(p: &ApitParams, c: Vec3) -> Vec3 {
     match p.observer {
         dynray_accel::apit::Observer::Point(o) => o,
-        dynray_accel::apit::Observer::BoundsCenter => c,
+        dynray_accel::apit::Observer::BoundsCenter | dynray_accel::apit::Observer::Eye => c,
     }
 }
 

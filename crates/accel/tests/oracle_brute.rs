@@ -3,7 +3,7 @@
 
 mod support;
 
-use dynray_accel::{occluded_batch, Brute};
+use dynray_accel::{BatchQuery, Brute};
 use support::*;
 
 #[test]
@@ -12,7 +12,7 @@ fn brute_occluded_agrees_with_closest_hit_on_bunny() {
     let rays = random_rays(&mesh, 4_000, 7);
     let hits = brute_hits(&mesh, &rays);
     let brute = Brute::build(&mesh).unwrap();
-    let occ = occluded_batch(&brute, &rays);
+    let occ = brute.occluded_batch(&rays);
     for (i, (h, o)) in hits.iter().zip(&occ).enumerate() {
         assert_eq!(h.is_hit(), *o, "ray {i}: {:?}", rays[i]);
     }
@@ -29,7 +29,7 @@ fn check_standard_set(label: &str, mesh: &dynray_geom::TriangleMesh, rays: &[dyn
     assert!(n_hit > rays.len() / 5, "{label}: only {n_hit} hits");
     // Spot-check any-hit on a slice (all rays would double the oracle's cost).
     let brute = Brute::build(mesh).unwrap();
-    let occ = occluded_batch(&brute, &rays[..2_000]);
+    let occ = brute.occluded_batch(&rays[..2_000]);
     for i in 0..2_000 {
         assert_eq!(hits[i].is_hit(), occ[i], "{label} ray {i}");
     }

@@ -3,6 +3,7 @@
 
 mod support;
 
+use dynray_accel::StructureParams;
 use dynray_accel::{Accel, AccelKind, BuildError, KdTree, KdTreeParams, KdTreeRopes};
 use dynray_geom::{Ray, TriangleMesh, Vec3};
 use rand::{rngs::SmallRng, Rng, SeedableRng};

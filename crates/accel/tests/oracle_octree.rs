@@ -5,6 +5,7 @@
 mod support;
 
 use dynray_accel::octree::{Octree, OctreeDescent, OctreeParams};
+use dynray_accel::StructureParams;
 use dynray_accel::{Accel, AccelKind};
 use dynray_geom::{Ray, TriangleMesh, Vec3};
 use support::*;
@@ -251,7 +252,7 @@ fn rays_along_leaf_planes_and_through_corners() {
             rays.push(Ray::new(Vec3::new(a, b, 0.5), Vec3::new(1.0, -1.0, 0.0)));
         }
     }
-    for p in OctreeParams::presets().map(|(_, p)| p) {
+    for p in OctreeParams::presets().into_iter().map(|(_, p)| p) {
         let (walk, descent) = both(&mesh, &OctreeParams { leaf_threshold: 1, ..p });
         assert_matches_oracle(&walk, &mesh, &rays, "lattice");
         assert_matches_oracle(&descent, &mesh, &rays, "lattice");

@@ -1,9 +1,9 @@
 //! What a bench run is asked to do: the presets and the validated settings.
 
 use crate::rays::RayKind;
-use crate::variant::AccelVariant;
 use anyhow::{Context, Result};
 use dynray_accel::AccelKind;
+use dynray_accel::AccelSpec;
 use std::path::PathBuf;
 
 /// What a bench run does besides (or instead of) the standard measurements.
@@ -60,7 +60,7 @@ pub struct BenchConfig {
     pub scenes: Vec<String>,
     /// Structures; empty: every registered structure but brute (brute alone when it is
     /// the only one).
-    pub accels: Vec<AccelVariant>,
+    pub accels: Vec<AccelSpec>,
     /// Ray kinds of the standard measurements.
     pub rays: Vec<RayKind>,
     /// Image width of the ray sets and renders.
@@ -112,14 +112,14 @@ impl BenchConfig {
     }
 
     /// The structures to measure: as given, or the default set.
-    pub fn accels_or_default(&self) -> Vec<AccelVariant> {
+    pub fn accels_or_default(&self) -> Vec<AccelSpec> {
         if !self.accels.is_empty() {
             return self.accels.clone();
         }
-        let all: Vec<AccelVariant> =
-            AccelKind::ALL.iter().filter(|k| **k != AccelKind::Brute).map(|k| AccelVariant::new(*k)).collect();
+        let all: Vec<AccelSpec> =
+            AccelKind::ALL.iter().filter(|k| **k != AccelKind::Brute).map(|k| AccelSpec::new(*k)).collect();
         if all.is_empty() {
-            vec![AccelVariant::new(AccelKind::Brute)]
+            vec![AccelSpec::new(AccelKind::Brute)]
         } else {
             all
         }

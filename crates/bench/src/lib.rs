@@ -17,7 +17,6 @@ pub mod machine;
 pub mod markdown;
 pub mod measure;
 pub mod output;
-pub mod params;
 pub mod plan;
 pub mod presets;
 pub mod progress;
@@ -28,7 +27,8 @@ pub mod scenes;
 pub mod variant;
 
 pub use config::{BenchConfig, Preset};
+pub use dynray_accel::AccelSpec;
 pub use rays::RayKind;
 pub use report::Report;
 pub use run::run;
-pub use variant::{build_variant, parse_accels, AccelVariant};
+pub use variant::parse_accels;

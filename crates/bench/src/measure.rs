@@ -3,19 +3,15 @@
 
 use crate::rays::{RayKind, RaySets};
 use crate::report::{median, KindResult, Mismatch, StructureResult, Work};
-use crate::variant::AccelVariant;
 use anyhow::{Context, Result};
-use dynray_accel::{Accel, TraversalCounts};
+use dynray_accel::AccelSpec;
+use dynray_accel::{Accel, BatchQuery, TraversalCounts};
 use dynray_geom::{Hit, Ray};
 use dynray_render::{render, RenderOptions};
 use dynray_scene::Frame;
 use rayon::prelude::*;
 use std::hint::black_box;
 use std::time::Instant;
-
-/// Rays per rayon task in the timed passes: large enough that scheduling costs nothing,
-/// small enough to balance incoherent rays over the threads.
-const CHUNK: usize = 1024;
 
 /// Brute force's answers for the sampled rays of one kind.
 pub struct Expected {
@@ -107,13 +103,13 @@ fn describe(h: &Hit) -> String {
 
 /// Builds `v` once as a warm-up, then `repeat` more times; returns the last structure and
 /// the timed builds in ms.
-pub fn timed_builds(v: &AccelVariant, frame: &Frame, repeat: usize) -> Result<(Box<dyn Accel>, Vec<f64>)> {
-    let mut accel = v.build_in(frame)?;
+pub fn timed_builds(v: &AccelSpec, frame: &Frame, repeat: usize) -> Result<(Box<dyn Accel>, Vec<f64>)> {
+    let mut accel = v.build(&frame.mesh, Some(frame.camera.position))?;
     let mut times = Vec::with_capacity(repeat);
     for _ in 0..repeat.max(1) {
         drop(accel);
         let t = Instant::now();
-        accel = v.build_in(frame)?;
+        accel = v.build(&frame.mesh, Some(frame.camera.position))?;
         times.push(ms(t));
     }
     Ok((accel, times))
@@ -124,15 +120,24 @@ pub fn ms(t: Instant) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
 }
 
-/// One timed pass over `rays` on the current rayon pool, ms; returns the hit count too.
-pub fn timed_pass(accel: &dyn Accel, rays: &[Ray], shadow: bool) -> (f64, usize) {
-    let t = Instant::now();
-    let hits: usize = if shadow {
-        rays.par_chunks(CHUNK).map(|c| c.iter().filter(|r| accel.occluded(r)).count()).sum()
+/// One timed closest-hit or any-hit pass over `rays` through [`BatchQuery`], the trait
+/// our structures and the competitors' adapters share, on the current rayon pool; returns
+/// ms and the hit count. The answer buffer is allocated (and its pages touched) before the
+/// timer starts and the hits are counted after it stops, so the time is the queries' alone.
+pub fn timed_pass<Q: BatchQuery + ?Sized>(q: &Q, rays: &[Ray], shadow: bool) -> (f64, usize) {
+    if shadow {
+        let mut out = vec![false; rays.len()];
+        let t = Instant::now();
+        q.occluded_into(rays, &mut out);
+        let elapsed = ms(t);
+        (elapsed, black_box(out.iter().filter(|o| **o).count()))
     } else {
-        rays.par_chunks(CHUNK).map(|c| c.iter().filter(|r| accel.intersect(r).is_hit()).count()).sum()
-    };
-    (ms(t), black_box(hits))
+        let mut hits = vec![Hit::MISS; rays.len()];
+        let t = Instant::now();
+        q.intersect_into(rays, &mut hits);
+        let elapsed = ms(t);
+        (elapsed, black_box(hits.iter().filter(|h| h.is_hit()).count()))
+    }
 }
 
 /// What a counted closest-hit pass found: per-ray work (nodes + triangles, for the heat
@@ -199,12 +204,12 @@ pub struct MeasureInput<'a> {
 /// Everything about one structure on one scene; per-pixel work of the primary rays is
 /// returned for the heat map (when primary rays were measured).
 pub fn measure(
-    v: &AccelVariant,
+    v: &AccelSpec,
     input: &MeasureInput<'_>,
     mismatches: &mut Vec<Mismatch>,
     step: &dyn Fn(&str),
 ) -> Result<(StructureResult, Option<Vec<u32>>)> {
-    let label = v.label();
+    let label = v.to_string();
     step("build");
     let (accel, build_ms_runs) =
         timed_builds(v, input.frame, input.repeat).with_context(|| format!("{}: cannot build {label}", input.scene))?;
@@ -279,7 +284,7 @@ pub fn measure(
 
 /// Build + Whitted render at the bench size, `repeat` times: medians of the whole and of
 /// the render alone, and the rays the render traced.
-fn time_to_image(v: &AccelVariant, input: &MeasureInput<'_>, step: &dyn Fn(&str)) -> Result<TimeToImage> {
+fn time_to_image(v: &AccelSpec, input: &MeasureInput<'_>, step: &dyn Fn(&str)) -> Result<TimeToImage> {
     step("render");
     let mut frame = input.frame.clone();
     frame.settings.width = input.width;
@@ -288,7 +293,7 @@ fn time_to_image(v: &AccelVariant, input: &MeasureInput<'_>, step: &dyn Fn(&str)
     let mut render_rays = 0;
     for _ in 0..input.repeat.max(1) {
         let t = Instant::now();
-        let accel = v.build_in(&frame)?;
+        let accel = v.build(&frame.mesh, Some(frame.camera.position))?;
         let t_render = Instant::now();
         let (film, stats) = render(&frame, accel.as_ref(), &RenderOptions::default());
         black_box(film);

@@ -9,8 +9,8 @@ use crate::progress::progress_bar;
 use crate::rays::{self, RayKind};
 use crate::report::{KindCount, Mismatch, SceneResult};
 use crate::scenes::load_scenes;
-use crate::variant::AccelVariant;
 use anyhow::{Context, Result};
+use dynray_accel::AccelSpec;
 use dynray_accel::{AccelKind, Brute};
 
 /// How [`measure_scenes`] measures: the standard run's settings, or a preset's.
@@ -37,7 +37,7 @@ pub struct SceneMeasure {
 /// answers for all structures of a scene; disagreements go to `mismatches`.
 pub fn measure_scenes(
     config: &BenchConfig,
-    plan: &[(String, Vec<AccelVariant>)],
+    plan: &[(String, Vec<AccelSpec>)],
     how: &SceneMeasure,
     mismatches: &mut Vec<Mismatch>,
     notes: &mut Vec<String>,
@@ -50,8 +50,9 @@ pub fn measure_scenes(
     for (sc, (_, accels)) in loaded.iter().zip(plan) {
         bar.set_message(format!("{}{}: rays and brute-force answers", how.label, sc.name));
         let first = accels.first().context("no structure to measure")?;
-        let reference =
-            first.build_in(&sc.frame).with_context(|| format!("{}: cannot build {}", sc.name, first.label()))?;
+        let reference = first
+            .build(&sc.frame.mesh, Some(sc.frame.camera.position))
+            .with_context(|| format!("{}: cannot build {}", sc.name, first.to_string()))?;
         let sets = rays::generate(&sc.frame, how.width, how.height, &how.rays, reference.as_ref());
         drop(reference);
         let brute = Brute::build(&sc.frame.mesh).with_context(|| format!("{}: cannot build brute", sc.name))?;
@@ -80,7 +81,7 @@ pub fn measure_scenes(
                 height: how.height,
                 time_to_image: how.time_to_image,
             };
-            let step = |s: &str| bar.set_message(format!("{}{} / {}: {s}", how.label, sc.name, v.label()));
+            let step = |s: &str| bar.set_message(format!("{}{} / {}: {s}", how.label, sc.name, v.to_string()));
             let (mut res, heat) = measure(v, &input, mismatches, &step)?;
             if let (Some(work), true) = (heat, how.heatmaps) {
                 let file = format!("heatmap-{}-{}.png", file_safe(&sc.name), file_safe(&res.accel));

@@ -2,7 +2,7 @@
 //! by every structure: primary (coherent), shadow (towards a light, any-hit), diffuse
 //! (cosine-weighted bounces: incoherent) and random (uniform in the scene box).
 
-use dynray_accel::Accel;
+use dynray_accel::{Accel, BatchQuery};
 use dynray_geom::{Hit, Ray, Vec3};
 use dynray_render::CameraRays;
 use dynray_scene::{Frame, LightKind};
@@ -171,7 +171,7 @@ pub struct RaySets {
 pub fn generate(frame: &Frame, width: u32, height: u32, kinds: &[RayKind], reference: &dyn Accel) -> RaySets {
     let prim = primary(frame, width, height);
     let needs_hits = kinds.iter().any(|k| matches!(k, RayKind::Shadow | RayKind::Diffuse));
-    let hits = if needs_hits { dynray_accel::intersect_batch(reference, &prim) } else { Vec::new() };
+    let hits = if needs_hits { reference.intersect_batch(&prim) } else { Vec::new() };
     let n = prim.len();
     let sets = kinds
         .iter()

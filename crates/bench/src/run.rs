@@ -3,9 +3,9 @@
 use crate::config::{BenchConfig, Preset};
 use crate::plan::{measure_scenes, SceneMeasure};
 use crate::report::{ConfigEcho, Mismatch, Report, SCHEMA_VERSION};
-use crate::variant::AccelVariant;
 use crate::{charts, fonts, machine, markdown, output, presets};
 use anyhow::{Context, Result};
+use dynray_accel::AccelSpec;
 use std::path::Path;
 
 /// Runs the bench: measures, then writes every file into `config.out`. Disagreements with
@@ -29,7 +29,7 @@ pub fn run(config: &BenchConfig) -> Result<Report> {
             height: config.height,
             repeat: config.repeat,
             rays: config.rays.iter().map(|k| k.name().to_string()).collect(),
-            accels: accels.iter().map(|a| a.label()).collect(),
+            accels: accels.iter().map(|a| a.to_string()).collect(),
             verify_sample: config.verify_sample,
             quick: config.quick,
             presets: config.presets.iter().map(|p| p.name().to_string()).collect(),
@@ -75,8 +75,8 @@ pub fn run(config: &BenchConfig) -> Result<Report> {
     Ok(report)
 }
 
-fn standard(config: &BenchConfig, accels: &[AccelVariant], report: &mut Report) -> Result<()> {
-    let plan: Vec<(String, Vec<AccelVariant>)> =
+fn standard(config: &BenchConfig, accels: &[AccelSpec], report: &mut Report) -> Result<()> {
+    let plan: Vec<(String, Vec<AccelSpec>)> =
         config.standard_scenes().into_iter().map(|n| (n, accels.to_vec())).collect();
     let how = SceneMeasure {
         rays: config.rays.clone(),

@@ -2,10 +2,10 @@
 //! agree with brute force on at least 99.9 % of the checked rays, per competitor and kind.
 #![cfg(feature = "compare")]
 
-use dynray_accel::{AccelKind, Brute};
-use dynray_bench::compare::{self, MISS};
+use dynray_accel::{AccelKind, BatchQuery, Brute};
+use dynray_bench::compare;
 use dynray_bench::measure::oracle;
-use dynray_bench::{rays, scenes, AccelVariant, RayKind};
+use dynray_bench::{rays, scenes, AccelSpec, RayKind};
 
 /// Rays per kind checked against brute force: enough that 99.9 % allows a handful of
 /// disagreements (edge and tie cases of their triangle tests), few enough for a test.
@@ -17,7 +17,7 @@ fn every_competitor_agrees_with_brute_force_on_the_bunny() {
     let (name, path) = scenes::resolve("bunny", dir.as_deref()).expect("the bunny (set DYNRAY_SCENES)");
     let sc = scenes::load(&name, &path).expect("bunny loads");
     let mesh = &sc.frame.mesh;
-    let bvh = AccelVariant::new(AccelKind::Bvh).build(mesh).expect("bvh builds");
+    let bvh = AccelSpec::new(AccelKind::Bvh).build(mesh, None).expect("bvh builds");
     let sets = rays::generate(&sc.frame, 160, 120, &RayKind::ALL, bvh.as_ref());
     let brute = Brute::build(mesh).expect("brute builds");
     let expected = oracle(&brute, &sets, Some(CHECKED));
@@ -77,18 +77,18 @@ fn every_competitor_agrees_with_brute_force_on_the_bunny() {
 fn a_broken_answer_is_seen_as_disagreement() {
     // The agreement measure itself: a "library" that always misses must not pass.
     struct AlwaysMiss;
-    impl compare::Traceable for AlwaysMiss {
-        fn memory_bytes(&self) -> Option<usize> {
-            None
+    impl BatchQuery for AlwaysMiss {
+        fn intersect_into(&self, _rays: &[dynray_geom::Ray], hits: &mut [dynray_geom::Hit]) {
+            hits.fill(dynray_geom::Hit::MISS);
         }
-        fn closest(&self, _rays: &[dynray_geom::Ray], out: &mut [(f32, u32)]) {
-            out.fill((f32::INFINITY, MISS));
+        fn occluded_into(&self, _rays: &[dynray_geom::Ray], out: &mut [bool]) {
+            out.fill(false);
         }
     }
     let dir = scenes::scenes_dir(None);
     let (name, path) = scenes::resolve("bunny", dir.as_deref()).expect("the bunny (set DYNRAY_SCENES)");
     let sc = scenes::load(&name, &path).expect("bunny loads");
-    let bvh = AccelVariant::new(AccelKind::Bvh).build(&sc.frame.mesh).expect("bvh builds");
+    let bvh = AccelSpec::new(AccelKind::Bvh).build(&sc.frame.mesh, None).expect("bvh builds");
     let sets = rays::generate(&sc.frame, 64, 48, &[RayKind::Primary], bvh.as_ref());
     let expected = oracle(bvh.as_ref(), &sets, None);
     for (e, (_, rays)) in expected.iter().zip(&sets.sets) {

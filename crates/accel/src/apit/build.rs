@@ -6,6 +6,7 @@ use super::node::{Fragment, NONE};
 use super::params::{ApitParams, Observer};
 use super::raster::{coverage_bound, is_near, rasterize, RawFrag};
 use crate::BuildError;
+use crate::StructureParams;
 use dynray_geom::{Aabb, Triangle, TriangleMesh};
 use rayon::prelude::*;
 
@@ -38,20 +39,13 @@ pub struct Filed {
 /// Checks parameters and mesh, rasterises every triangle and files the fragments.
 pub fn build_filed(mesh: &TriangleMesh, params: &ApitParams) -> Result<Filed, BuildError> {
     mesh.validate()?;
-    if params.resolution == 0 || params.resolution > ApitParams::MAX_RESOLUTION {
-        return Err(BuildError::Param {
-            name: "resolution",
-            message: format!("{} is outside 1..={}", params.resolution, ApitParams::MAX_RESOLUTION),
-        });
-    }
+    params.validate()?;
     let tris: Vec<Triangle> = mesh.triangles().collect();
     let bounds = tris.iter().fold(Aabb::EMPTY, |b, t| b.union(&t.bounds()));
+    // `validate` rejected non-finite points; `Eye` without an eye yet means the centre.
     let observer = match params.observer {
-        Observer::BoundsCenter => bounds.center(),
-        Observer::Point(p) if p.is_finite() => p,
-        Observer::Point(p) => {
-            return Err(BuildError::Param { name: "observer", message: format!("{p} is not a finite point") })
-        }
+        Observer::BoundsCenter | Observer::Eye => bounds.center(),
+        Observer::Point(p) => p,
     };
     let cube = Cube::new(observer, params.resolution, bounds);
     let pixels = cube.pixels();

@@ -1,14 +1,20 @@
 //! Build parameters of the A-buffer and the A-PIT, with named presets.
 
+use crate::structure_params::{unknown_key, value, ParamKey, StructureParams};
+use crate::BuildError;
 use dynray_geom::Vec3;
 
 /// Where the cube of A-buffers is centred.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Observer {
-    /// The centre of the mesh's bounding box (the registry's default: it has no camera).
+    /// The centre of the mesh's bounding box, whatever the camera (`observer=center`).
     BoundsCenter,
     /// A given point, e.g. the camera position (the seed's choice).
     Point(Vec3),
+    /// Follow the camera (`observer=eye`, the default): the eye given to
+    /// [`crate::AccelSpec::build`] or [`crate::Accel::update_for_eye`] becomes
+    /// [`Observer::Point`]; until one is given, the bounds centre.
+    Eye,
 }
 
 /// Parameters of [`crate::apit::Apit`] and [`crate::apit::ABuffer`].
@@ -41,11 +47,6 @@ impl ApitParams {
         Self { resolution: 256, ..Self::default() }
     }
 
-    /// All presets, for tests that loop over them.
-    pub fn presets() -> [Self; 3] {
-        [Self::fast(), Self::default(), Self::high_quality()]
-    }
-
     /// The same parameters with the cube centred on `p`.
     pub fn with_observer(self, p: Vec3) -> Self {
         Self { observer: Observer::Point(p), ..self }
@@ -53,8 +54,54 @@ impl ApitParams {
 }
 
 impl Default for ApitParams {
-    /// 128² pixels per face, centred on the mesh's bounding box.
+    /// 128² pixels per face, following the eye (centred on the mesh's bounding box
+    /// until an eye is given).
     fn default() -> Self {
-        Self { resolution: 128, observer: Observer::BoundsCenter, fragment_budget: 32 }
+        Self { resolution: 128, observer: Observer::Eye, fragment_budget: 32 }
+    }
+}
+
+impl StructureParams for ApitParams {
+    const STRUCTURE: &'static str = "apit";
+    const KEYS: &'static [ParamKey] = &[
+        ParamKey { name: "resolution", doc: "pixels per cube-face side, 32–512 (1–4096 accepted; default 128)" },
+        ParamKey {
+            name: "fragment_budget",
+            doc: "fragments per triangle before big ones go to every ray, 16–1024 (default 32)",
+        },
+        ParamKey { name: "observer", doc: "`eye` (cube on the camera, default) or `center` (on the mesh box)" },
+    ];
+
+    fn presets() -> Vec<(&'static str, Self)> {
+        vec![("fast", Self::fast()), ("default", Self::default()), ("high_quality", Self::high_quality())]
+    }
+
+    fn set(&mut self, key: &str, v: &str) -> Result<(), BuildError> {
+        let s = Self::STRUCTURE;
+        match key {
+            "resolution" => self.resolution = value::u32(s, key, v)?,
+            "fragment_budget" => self.fragment_budget = value::u32(s, key, v)?,
+            "observer" => {
+                let i = value::choice(s, key, v, &["eye", "center"], "eye or center")?;
+                self.observer = [Observer::Eye, Observer::BoundsCenter][i];
+            }
+            _ => return Err(unknown_key::<Self>(key)),
+        }
+        Ok(())
+    }
+
+    /// Rejects a resolution outside 1..=[`ApitParams::MAX_RESOLUTION`] and an observer
+    /// that is not a finite point.
+    fn validate(&self) -> Result<(), BuildError> {
+        let err = |name: &'static str, message: String| Err(BuildError::Param { structure: "apit", name, message });
+        if !(1..=Self::MAX_RESOLUTION).contains(&self.resolution) {
+            return err("resolution", format!("{} is outside 1..={}", self.resolution, Self::MAX_RESOLUTION));
+        }
+        if let Observer::Point(p) = self.observer {
+            if !p.is_finite() {
+                return err("observer", format!("{p} is not a finite point"));
+            }
+        }
+        Ok(())
     }
 }

@@ -39,6 +39,7 @@ pub use node::{BihNode, LEAF_FLAG, MAX_INDEX};
 pub use params::{BihParams, MAX_DEPTH_LIMIT};
 pub use validate::InvalidBih;
 
+use crate::StructureParams;
 use crate::{Accel, AccelStats, BuildError, NoCount, TraversalCounts};
 use dynray_geom::{Aabb, Hit, Ray, Triangle, TriangleMesh};
 use rayon::prelude::*;
@@ -61,7 +62,7 @@ pub struct Bih {
 impl Bih {
     /// Builds the hierarchy over `mesh`.
     pub fn build(mesh: &TriangleMesh, params: &BihParams) -> Result<Self, BuildError> {
-        params.check()?;
+        params.validate()?;
         mesh.validate()?;
         let boxes: Vec<Aabb> = (0..mesh.triangle_count()).into_par_iter().map(|i| mesh.triangle(i).bounds()).collect();
         let bounds = boxes.par_iter().cloned().reduce(|| Aabb::EMPTY, |a, b| a.union(&b));

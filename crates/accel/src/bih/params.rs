@@ -1,5 +1,6 @@
 //! Build parameters of the BIH, with named presets and their useful ranges.
 
+use crate::structure_params::{unknown_key, value, ParamKey, StructureParams};
 use crate::BuildError;
 
 /// Deepest tree the builder makes; traversal keeps a stack of this many entries, which
@@ -57,10 +58,19 @@ impl BihParams {
     pub fn wachter_keller() -> Self {
         Self { shrink: None, empty_cut: None, ..Self::default() }
     }
+}
 
-    /// Every preset with its name, for tests and benches that loop over them.
-    pub fn presets() -> [(&'static str, BihParams); 5] {
-        [
+impl StructureParams for BihParams {
+    const STRUCTURE: &'static str = "bih";
+    const KEYS: &'static [ParamKey] = &[
+        ParamKey { name: "max_prims", doc: "leaf size, 1–32 (default 8)" },
+        ParamKey { name: "max_depth", doc: "depth limit, 1–64 (default 64)" },
+        ParamKey { name: "shrink", doc: "shrink factor 1.1–4, `on` (1.3) or `off` (default 1.3)" },
+        ParamKey { name: "empty_cut", doc: "empty-space cut fraction 0.1–0.9 or `off` (default 0.25)" },
+    ];
+
+    fn presets() -> Vec<(&'static str, Self)> {
+        vec![
             ("default", Self::default()),
             ("fast", Self::fast()),
             ("high_quality", Self::high_quality()),
@@ -69,31 +79,37 @@ impl BihParams {
         ]
     }
 
+    fn set(&mut self, key: &str, v: &str) -> Result<(), BuildError> {
+        let s = Self::STRUCTURE;
+        let d = Self::default();
+        match key {
+            "max_prims" => self.max_prims = value::u32(s, key, v)?,
+            "max_depth" => self.max_depth = value::u32(s, key, v)?,
+            // `shrink=on` restores the seed's factor after a preset turned it off.
+            "shrink" => self.shrink = value::opt_f32(s, key, v, d.shrink.unwrap_or(1.3))?,
+            "empty_cut" => self.empty_cut = value::opt_f32(s, key, v, d.empty_cut.unwrap_or(0.25))?,
+            _ => return Err(unknown_key::<Self>(key)),
+        }
+        Ok(())
+    }
+
     /// Rejects values outside the documented ranges.
-    pub fn check(&self) -> Result<(), BuildError> {
+    fn validate(&self) -> Result<(), BuildError> {
+        let err = |name: &'static str, message: String| Err(BuildError::Param { structure: "bih", name, message });
         if self.max_prims == 0 {
-            return Err(BuildError::Param { name: "max_prims", message: "must be at least 1".into() });
+            return err("max_prims", "must be at least 1".into());
         }
         if !(1..=MAX_DEPTH_LIMIT).contains(&self.max_depth) {
-            return Err(BuildError::Param {
-                name: "max_depth",
-                message: format!("{} is outside 1..={MAX_DEPTH_LIMIT}", self.max_depth),
-            });
+            return err("max_depth", format!("{} is outside 1..={MAX_DEPTH_LIMIT}", self.max_depth));
         }
         if let Some(f) = self.shrink {
             if !(f.is_finite() && f > 1.0) {
-                return Err(BuildError::Param {
-                    name: "shrink",
-                    message: format!("factor {f} must be finite and > 1"),
-                });
+                return err("shrink", format!("factor {f} must be finite and > 1"));
             }
         }
         if let Some(f) = self.empty_cut {
             if !(f > 0.0 && f < 1.0) {
-                return Err(BuildError::Param {
-                    name: "empty_cut",
-                    message: format!("fraction {f} must be in (0, 1)"),
-                });
+                return err("empty_cut", format!("fraction {f} must be in (0, 1)"));
             }
         }
         Ok(())

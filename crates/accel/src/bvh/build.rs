@@ -9,6 +9,7 @@
 
 use super::{BvhNode, BvhParams};
 use crate::BuildError;
+use crate::StructureParams;
 use dynray_geom::{Aabb, Triangle, TriangleMesh, Vec3};
 use glam::Vec3A;
 use rayon::prelude::*;

@@ -1,5 +1,6 @@
 //! Build parameters of the BVH: bin count, leaf sizes and SAH cost constants, with presets.
 
+use crate::structure_params::{unknown_key, value, ParamKey, StructureParams};
 use crate::BuildError;
 
 /// How a [`super::Bvh`] is built. Every field documents its useful range; [`BvhParams::validate`]
@@ -35,29 +36,6 @@ impl BvhParams {
     pub fn high_quality() -> Self {
         Self { bins: 32, leaf_size: 3, ..Self::default() }
     }
-
-    /// Checks every field against its documented range.
-    pub fn validate(&self) -> Result<(), BuildError> {
-        let err = |name: &'static str, message: String| Err(BuildError::Param { name, message });
-        if !(2..=256).contains(&self.bins) {
-            return err("bins", format!("{} is outside 2..=256", self.bins));
-        }
-        if !(2..=32).contains(&self.leaf_size) {
-            return err("leaf_size", format!("{} is outside 2..=32", self.leaf_size));
-        }
-        if self.max_leaf_size + 1 < self.leaf_size || self.max_leaf_size > 1024 {
-            return err(
-                "max_leaf_size",
-                format!("{} is outside {}..=1024 (leaf_size - 1 up to 1024)", self.max_leaf_size, self.leaf_size - 1),
-            );
-        }
-        for (name, v) in [("traversal_cost", self.traversal_cost), ("intersection_cost", self.intersection_cost)] {
-            if !(v > 0.0 && v <= 1000.0) {
-                return err(name, format!("{v} is outside (0, 1000]"));
-            }
-        }
-        Ok(())
-    }
 }
 
 impl Default for BvhParams {
@@ -83,13 +61,64 @@ impl Default for BvhParams {
     }
 }
 
+impl StructureParams for BvhParams {
+    const STRUCTURE: &'static str = "bvh";
+    const KEYS: &'static [ParamKey] = &[
+        ParamKey { name: "bins", doc: "SAH bins per axis, 2–256 (default 16)" },
+        ParamKey { name: "leaf_size", doc: "nodes under this many triangles become leaves, 2–32 (default 4)" },
+        ParamKey { name: "max_leaf_size", doc: "hard cap on a leaf, leaf_size − 1 to 1024 (default 16)" },
+        ParamKey { name: "traversal_cost", doc: "SAH K_T, (0, 1000] (default 1)" },
+        ParamKey { name: "intersection_cost", doc: "SAH K_I, (0, 1000] (default 1)" },
+    ];
+
+    fn presets() -> Vec<(&'static str, Self)> {
+        vec![("fast", Self::fast()), ("default", Self::default()), ("high_quality", Self::high_quality())]
+    }
+
+    fn set(&mut self, key: &str, v: &str) -> Result<(), BuildError> {
+        let s = Self::STRUCTURE;
+        match key {
+            "bins" => self.bins = value::u32(s, key, v)?,
+            "leaf_size" => self.leaf_size = value::u32(s, key, v)?,
+            "max_leaf_size" => self.max_leaf_size = value::u32(s, key, v)?,
+            "traversal_cost" => self.traversal_cost = value::f32(s, key, v)?,
+            "intersection_cost" => self.intersection_cost = value::f32(s, key, v)?,
+            _ => return Err(unknown_key::<Self>(key)),
+        }
+        Ok(())
+    }
+
+    /// Checks every field against its documented range.
+    fn validate(&self) -> Result<(), BuildError> {
+        let err = |name: &'static str, message: String| Err(BuildError::Param { structure: "bvh", name, message });
+        if !(2..=256).contains(&self.bins) {
+            return err("bins", format!("{} is outside 2..=256", self.bins));
+        }
+        if !(2..=32).contains(&self.leaf_size) {
+            return err("leaf_size", format!("{} is outside 2..=32", self.leaf_size));
+        }
+        if self.max_leaf_size + 1 < self.leaf_size || self.max_leaf_size > 1024 {
+            return err(
+                "max_leaf_size",
+                format!("{} is outside {}..=1024 (leaf_size - 1 up to 1024)", self.max_leaf_size, self.leaf_size - 1),
+            );
+        }
+        for (name, v) in [("traversal_cost", self.traversal_cost), ("intersection_cost", self.intersection_cost)] {
+            if !(v > 0.0 && v <= 1000.0) {
+                return err(name, format!("{v} is outside (0, 1000]"));
+            }
+        }
+        Ok(())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
     fn presets_are_valid() {
-        for p in [BvhParams::fast(), BvhParams::default(), BvhParams::high_quality()] {
+        for (_, p) in BvhParams::presets() {
             p.validate().unwrap();
         }
     }

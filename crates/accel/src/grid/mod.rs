@@ -31,6 +31,7 @@ pub use params::GridParams;
 pub use shape::{GridShape, INSERT_SLACK};
 pub use validate::InvalidGrid;
 
+use crate::StructureParams;
 use crate::{Accel, AccelStats, BuildError, NoCount, TraversalCounts};
 use dynray_geom::{Aabb, Hit, Ray, Triangle, TriangleMesh};
 use rayon::prelude::*;
@@ -50,7 +51,7 @@ pub struct Grid {
 impl Grid {
     /// Builds the grid over `mesh`.
     pub fn build(mesh: &TriangleMesh, params: &GridParams) -> Result<Self, BuildError> {
-        params.check()?;
+        params.validate()?;
         mesh.validate()?;
         let tris: Vec<Triangle> = (0..mesh.triangle_count()).into_par_iter().map(|i| mesh.triangle(i)).collect();
         let bounds = tris.par_iter().map(|t| t.bounds()).reduce(|| Aabb::EMPTY, |a, b| a.union(&b));

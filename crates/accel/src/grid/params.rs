@@ -1,5 +1,6 @@
 //! Build parameters of the uniform grid, with named presets and their useful ranges.
 
+use crate::structure_params::{unknown_key, value, ParamKey, StructureParams};
 use crate::BuildError;
 
 /// How the grid is sized. All presets are checked by the oracle tests.
@@ -39,25 +40,44 @@ impl GridParams {
     pub fn high_quality() -> Self {
         Self { density: 4.0, ..Self::default() }
     }
+}
 
-    /// Every preset with its name, for tests and benches that loop over them.
-    pub fn presets() -> [(&'static str, GridParams); 3] {
-        [("default", Self::default()), ("fast", Self::fast()), ("high_quality", Self::high_quality())]
+impl StructureParams for GridParams {
+    const STRUCTURE: &'static str = "grid";
+    const KEYS: &'static [ParamKey] = &[
+        ParamKey { name: "density", doc: "λ, cells along the longest axis per cube root of N, 1–8 (default 2)" },
+        ParamKey { name: "max_cells", doc: "cap on cells, 2^16–2^26 (default 2^23)" },
+        ParamKey { name: "max_refs_per_triangle", doc: "cap on average cells per triangle, 8–256 (default 64)" },
+        ParamKey { name: "exact_overlap", doc: "insert by triangle–box overlap, on/off (default on)" },
+    ];
+
+    fn presets() -> Vec<(&'static str, Self)> {
+        vec![("default", Self::default()), ("fast", Self::fast()), ("high_quality", Self::high_quality())]
+    }
+
+    fn set(&mut self, key: &str, v: &str) -> Result<(), BuildError> {
+        let s = Self::STRUCTURE;
+        match key {
+            "density" => self.density = value::f32(s, key, v)?,
+            "max_cells" => self.max_cells = value::u32(s, key, v)?,
+            "max_refs_per_triangle" => self.max_refs_per_triangle = value::u32(s, key, v)?,
+            "exact_overlap" => self.exact_overlap = value::bool(s, key, v)?,
+            _ => return Err(unknown_key::<Self>(key)),
+        }
+        Ok(())
     }
 
     /// Rejects values outside the documented ranges.
-    pub fn check(&self) -> Result<(), BuildError> {
+    fn validate(&self) -> Result<(), BuildError> {
+        let err = |name: &'static str, message: String| Err(BuildError::Param { structure: "grid", name, message });
         if !(self.density.is_finite() && self.density > 0.0) {
-            return Err(BuildError::Param {
-                name: "density",
-                message: format!("{} must be finite and > 0", self.density),
-            });
+            return err("density", format!("{} must be finite and > 0", self.density));
         }
         if self.max_cells == 0 {
-            return Err(BuildError::Param { name: "max_cells", message: "must be at least 1".into() });
+            return err("max_cells", "must be at least 1".into());
         }
         if self.max_refs_per_triangle == 0 {
-            return Err(BuildError::Param { name: "max_refs_per_triangle", message: "must be at least 1".into() });
+            return err("max_refs_per_triangle", "must be at least 1".into());
         }
         Ok(())
     }

@@ -20,6 +20,7 @@ use super::node::{KdNode, MAX_INDEX};
 use super::params::KdTreeParams;
 use super::tree::Tree;
 use crate::BuildError;
+use crate::StructureParams;
 use dynray_geom::{Aabb, Triangle, TriangleMesh};
 use std::cmp::Ordering;
 

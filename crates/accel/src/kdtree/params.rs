@@ -1,5 +1,6 @@
 //! Build parameters of the kd-tree, with named presets and their useful ranges.
 
+use crate::structure_params::{unknown_key, value, ParamKey, StructureParams};
 use crate::BuildError;
 
 /// Deepest tree any preset or user may ask for. The traversal stack holds one entry per
@@ -62,20 +63,55 @@ impl KdTreeParams {
         Self { intersection_cost: 2.0, depth_factor: 1.5, min_prims: 0, max_refs_per_triangle: 12.0, ..Self::default() }
     }
 
-    /// Every preset with its name, for tests and the bench.
-    pub fn presets() -> [(&'static str, Self); 3] {
-        [("fast", Self::fast()), ("default", Self::default()), ("high_quality", Self::high_quality())]
-    }
-
     /// The depth limit for `n` triangles.
     pub fn depth_limit(&self, n: usize) -> u32 {
         let auto = || (8.0 + self.depth_factor as f64 * (n.max(1) as f64).log2()).round() as u32;
         self.max_depth.unwrap_or_else(auto).min(MAX_DEPTH_LIMIT)
     }
+}
+
+impl StructureParams for KdTreeParams {
+    const STRUCTURE: &'static str = "kdtree";
+    const KEYS: &'static [ParamKey] = &[
+        ParamKey { name: "traversal_cost", doc: "SAH K_T, 0.5–2 (default 1)" },
+        ParamKey { name: "intersection_cost", doc: "SAH K_I, 0.5–4 (default 1.5)" },
+        ParamKey { name: "empty_bonus", doc: "cost factor for empty-side splits, 0.5–1 (default 0.8)" },
+        ParamKey { name: "max_depth", doc: "depth limit, 10–60 or `auto` (default auto: 8 + depth_factor·log2 N)" },
+        ParamKey { name: "depth_factor", doc: "slope of the automatic depth limit, 0.8–1.6 (default 1.3)" },
+        ParamKey { name: "min_prims", doc: "leaf without trying a split at this size, 0–16 (default 1)" },
+        ParamKey { name: "max_refs_per_triangle", doc: "cap on references per triangle, 2–32 (default 8)" },
+    ];
+
+    fn presets() -> Vec<(&'static str, Self)> {
+        vec![("fast", Self::fast()), ("default", Self::default()), ("high_quality", Self::high_quality())]
+    }
+
+    fn set(&mut self, key: &str, v: &str) -> Result<(), BuildError> {
+        let s = Self::STRUCTURE;
+        match key {
+            "traversal_cost" => self.traversal_cost = value::f32(s, key, v)?,
+            "intersection_cost" => self.intersection_cost = value::f32(s, key, v)?,
+            "empty_bonus" => self.empty_bonus = value::f32(s, key, v)?,
+            "max_depth" if v.trim() == "auto" => self.max_depth = None,
+            "max_depth" => {
+                self.max_depth = Some(value::u32(s, key, v).map_err(|_| BuildError::BadValue {
+                    structure: s,
+                    key: key.to_string(),
+                    value: v.to_string(),
+                    expected: "a whole number or auto",
+                })?)
+            }
+            "depth_factor" => self.depth_factor = value::f32(s, key, v)?,
+            "min_prims" => self.min_prims = value::u32(s, key, v)?,
+            "max_refs_per_triangle" => self.max_refs_per_triangle = value::f32(s, key, v)?,
+            _ => return Err(unknown_key::<Self>(key)),
+        }
+        Ok(())
+    }
 
     /// Rejects values outside the ranges the builder can honour.
-    pub fn validate(&self) -> Result<(), BuildError> {
-        let bad = |name: &'static str, message: String| Err(BuildError::Param { name, message });
+    fn validate(&self) -> Result<(), BuildError> {
+        let bad = |name: &'static str, message: String| Err(BuildError::Param { structure: "kdtree", name, message });
         if !(self.traversal_cost > 0.0 && self.traversal_cost.is_finite()) {
             return bad("traversal_cost", format!("{} is not a positive number", self.traversal_cost));
         }

@@ -44,6 +44,7 @@ pub use params::{OctreeParams, MAX_DEPTH_LIMIT};
 pub use tables::{FACE_TO_NEIGHBOR_INDEX, OUT_FACES_LOOKUP};
 pub use validate::InvalidOctree;
 
+use crate::StructureParams;
 use crate::{Accel, AccelStats, BuildError, NoCount, TraversalCounts};
 use build::Frame;
 use dynray_geom::{Aabb, Hit, Ray, Triangle, TriangleMesh};
@@ -79,7 +80,7 @@ pub struct Octree {
 impl Octree {
     /// Builds the octree over `mesh`.
     pub fn build(mesh: &TriangleMesh, params: &OctreeParams) -> Result<Self, BuildError> {
-        params.check()?;
+        params.validate()?;
         mesh.validate()?;
         let b = build::build(mesh, params)?;
         let oct = Self {

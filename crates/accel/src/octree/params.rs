@@ -1,5 +1,6 @@
 //! Build parameters of the octree, with named presets.
 
+use crate::structure_params::{unknown_key, value, ParamKey, StructureParams};
 use crate::BuildError;
 
 /// Deepest octree the builder accepts. The cube map holds `6·4^d` addresses at the finest
@@ -46,10 +47,18 @@ impl OctreeParams {
     pub fn unbalanced() -> Self {
         Self { balance: false, ..Self::default() }
     }
+}
 
-    /// Every preset, for tests that loop over them.
-    pub fn presets() -> [(&'static str, Self); 4] {
-        [
+impl StructureParams for OctreeParams {
+    const STRUCTURE: &'static str = "octree";
+    const KEYS: &'static [ParamKey] = &[
+        ParamKey { name: "max_depth", doc: "deepest level, 5–11 (default 8)" },
+        ParamKey { name: "leaf_threshold", doc: "split cells with more triangles, 1–32 (default 12)" },
+        ParamKey { name: "balance", doc: "2:1 face balance, on/off (default on)" },
+    ];
+
+    fn presets() -> Vec<(&'static str, Self)> {
+        vec![
             ("fast", Self::fast()),
             ("default", Self::default()),
             ("high_quality", Self::high_quality()),
@@ -57,16 +66,25 @@ impl OctreeParams {
         ]
     }
 
+    fn set(&mut self, key: &str, v: &str) -> Result<(), BuildError> {
+        let s = Self::STRUCTURE;
+        match key {
+            "max_depth" => self.max_depth = value::u32(s, key, v)?,
+            "leaf_threshold" => self.leaf_threshold = value::u32(s, key, v)?,
+            "balance" => self.balance = value::bool(s, key, v)?,
+            _ => return Err(unknown_key::<Self>(key)),
+        }
+        Ok(())
+    }
+
     /// Rejects values outside the encodable range.
-    pub fn check(&self) -> Result<(), BuildError> {
+    fn validate(&self) -> Result<(), BuildError> {
+        let err = |name: &'static str, message: String| Err(BuildError::Param { structure: "octree", name, message });
         if self.max_depth > MAX_DEPTH_LIMIT {
-            return Err(BuildError::Param {
-                name: "max_depth",
-                message: format!("{} exceeds the limit {MAX_DEPTH_LIMIT}", self.max_depth),
-            });
+            return err("max_depth", format!("{} exceeds the limit {MAX_DEPTH_LIMIT}", self.max_depth));
         }
         if self.leaf_threshold == 0 {
-            return Err(BuildError::Param { name: "leaf_threshold", message: "must be at least 1".into() });
+            return err("leaf_threshold", "must be at least 1".into());
         }
         Ok(())
     }

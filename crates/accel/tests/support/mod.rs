@@ -5,7 +5,7 @@
 
 pub mod degenerate;
 
-use dynray_accel::{intersect_batch, Accel, Brute};
+use dynray_accel::{Accel, BatchQuery, Brute};
 use dynray_geom::{Hit, Ray, TriangleMesh, Vec3};
 use rand::{rngs::SmallRng, Rng, SeedableRng};
 use std::path::PathBuf;
@@ -173,7 +173,7 @@ pub fn brute_hits(mesh: &TriangleMesh, rays: &[Ray]) -> Vec<Hit> {
                 .collect();
         }
     }
-    let hits = intersect_batch(&brute, rays);
+    let hits = brute.intersect_batch(rays);
     let mut bytes = Vec::with_capacity(hits.len() * 16);
     for h in &hits {
         for w in [h.t.to_bits(), h.u.to_bits(), h.v.to_bits(), h.prim] {
@@ -192,7 +192,7 @@ pub fn brute_hits(mesh: &TriangleMesh, rays: &[Ray]) -> Vec<Hit> {
 /// same barycentrics) for every ray, and that `occluded` agrees with "has a closest hit".
 pub fn assert_matches_oracle(accel: &dyn Accel, mesh: &TriangleMesh, rays: &[Ray], label: &str) {
     let want = brute_hits(mesh, rays);
-    let got = intersect_batch(accel, rays);
+    let got = accel.intersect_batch(rays);
     let mut bad = Vec::new();
     for (i, (g, w)) in got.iter().zip(&want).enumerate() {
         let same = g.prim == w.prim
@@ -203,7 +203,7 @@ pub fn assert_matches_oracle(accel: &dyn Accel, mesh: &TriangleMesh, rays: &[Ray
             bad.push(i);
         }
     }
-    let occ = dynray_accel::occluded_batch(accel, rays);
+    let occ = accel.occluded_batch(rays);
     let bad_occ: Vec<usize> = (0..rays.len()).filter(|&i| occ[i] != want[i].is_hit()).collect();
     let hits = want.iter().filter(|h| h.is_hit()).count();
     let show = |v: &[usize], what: &str| {

@@ -8,10 +8,11 @@
 //! structure could not be stored beside its device), and it pulls in `cgmath`; the C API
 //! we need is a handful of functions whose layouts are pinned below against the headers.
 
-use super::{parts, Competitor, Traceable, MISS};
+use super::{par_chunks_into, parts, Built, Competitor};
 use crate::rays::RayKind;
 use anyhow::{bail, Result};
-use dynray_geom::{Ray, TriangleMesh};
+use dynray_accel::BatchQuery;
+use dynray_geom::{Hit, Ray, TriangleMesh};
 use std::ffi::{c_char, c_void, CString};
 use std::sync::atomic::{AtomicIsize, Ordering};
 use std::sync::Arc;
@@ -292,12 +293,20 @@ fn rtc_ray(r: &Ray) -> RTCRay {
 /// Single-ray queries on every ray kind.
 struct Single(EmbreeScene);
 
-impl Traceable for Single {
-    fn memory_bytes(&self) -> Option<usize> {
-        self.0.bytes
+/// `u`, `v` are Embree's barycentrics, which follow our convention (hit point
+/// `(1-u-v)·p0 + u·p1 + v·p2`).
+impl BatchQuery for Single {
+    fn intersect_into(&self, rays: &[Ray], hits: &mut [Hit]) {
+        par_chunks_into(rays, hits, |rays, hits| self.closest(rays, hits));
     }
 
-    fn closest(&self, rays: &[Ray], out: &mut [(f32, u32)]) {
+    fn occluded_into(&self, rays: &[Ray], out: &mut [bool]) {
+        par_chunks_into(rays, out, |rays, out| self.occluded(rays, out));
+    }
+}
+
+impl Single {
+    fn closest(&self, rays: &[Ray], out: &mut [Hit]) {
         let mut ctx = context(RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT);
         for (r, o) in rays.iter().zip(out) {
             let mut rh = RTCRayHit {
@@ -314,15 +323,11 @@ impl Traceable for Single {
             // SAFETY: committed scene, initialised context and ray/hit.
             unsafe { rtcIntersect1(self.0.scene, &mut ctx, &mut rh) };
             *o = if rh.hit.geom_id != RTC_INVALID_GEOMETRY_ID {
-                (rh.ray.tfar, rh.hit.prim_id)
+                Hit { t: rh.ray.tfar, u: rh.hit.u, v: rh.hit.v, prim: rh.hit.prim_id }
             } else {
-                (f32::INFINITY, MISS)
+                Hit::MISS
             };
         }
-    }
-
-    fn has_any_hit(&self) -> bool {
-        true
     }
 
     fn occluded(&self, rays: &[Ray], out: &mut [bool]) {
@@ -374,12 +379,23 @@ impl Packets {
     }
 }
 
-impl Traceable for Packets {
-    fn memory_bytes(&self) -> Option<usize> {
-        self.0.bytes
+/// Chunks of [`super::CHUNK`] rays (a multiple of 8) keep every packet inside one chunk,
+/// so packets hold the same consecutive rays as a sequential pass would. `u`, `v` as for
+/// [`Single`].
+impl BatchQuery for Packets {
+    fn intersect_into(&self, rays: &[Ray], hits: &mut [Hit]) {
+        par_chunks_into(rays, hits, |rays, hits| self.closest(rays, hits));
     }
 
-    fn closest(&self, rays: &[Ray], out: &mut [(f32, u32)]) {
+    fn occluded_into(&self, rays: &[Ray], out: &mut [bool]) {
+        par_chunks_into(rays, out, |rays, out| self.occluded(rays, out));
+    }
+}
+
+const _: () = assert!(super::CHUNK % 8 == 0, "packets must not straddle chunks");
+
+impl Packets {
+    fn closest(&self, rays: &[Ray], out: &mut [Hit]) {
         let mut ctx = context(RTC_INTERSECT_CONTEXT_FLAG_COHERENT);
         for (rs, os) in rays.chunks(8).zip(out.chunks_mut(8)) {
             let (valid, ray) = Self::packet(rs);
@@ -400,16 +416,12 @@ impl Traceable for Packets {
             unsafe { rtcIntersect8(valid.0.as_ptr(), self.0.scene, &mut ctx, &mut rh) };
             for (k, o) in os.iter_mut().enumerate() {
                 *o = if rh.hit.geom_id[k] != RTC_INVALID_GEOMETRY_ID {
-                    (rh.ray.tfar[k], rh.hit.prim_id[k])
+                    Hit { t: rh.ray.tfar[k], u: rh.hit.u[k], v: rh.hit.v[k], prim: rh.hit.prim_id[k] }
                 } else {
-                    (f32::INFINITY, MISS)
+                    Hit::MISS
                 };
             }
         }
-    }
-
-    fn has_any_hit(&self) -> bool {
-        true
     }
 
     fn occluded(&self, rays: &[Ray], out: &mut [bool]) {
@@ -440,8 +452,9 @@ impl Competitor for SingleRay {
          default build quality (MEDIUM) and scene flags"
             .into()
     }
-    fn build(&self, mesh: &TriangleMesh) -> Result<Box<dyn Traceable>> {
-        Ok(Box::new(Single(self.0.build(mesh)?)))
+    fn build(&self, mesh: &TriangleMesh) -> Result<Built> {
+        let scene = self.0.build(mesh)?;
+        Ok(Built { memory_bytes: scene.bytes, query: Box::new(Single(scene)), any_hit: true })
     }
 }
 
@@ -463,7 +476,8 @@ impl Competitor for Packet8 {
     fn kinds(&self) -> Option<&'static [RayKind]> {
         Some(&[RayKind::Primary])
     }
-    fn build(&self, mesh: &TriangleMesh) -> Result<Box<dyn Traceable>> {
-        Ok(Box::new(Packets(self.0.build(mesh)?)))
+    fn build(&self, mesh: &TriangleMesh) -> Result<Built> {
+        let scene = self.0.build(mesh)?;
+        Ok(Built { memory_bytes: scene.bytes, query: Box::new(Packets(scene)), any_hit: true })
     }
 }

@@ -5,18 +5,19 @@
 pub mod embree;
 pub mod obvhs;
 
-use crate::measure::{ms, Expected};
+use crate::measure::{ms, timed_pass, Expected};
 use crate::rays::{RayKind, RaySets};
 use crate::report::{median, CompetitorKind, CompetitorResult, StructureResult};
 use anyhow::{Context, Result};
+use dynray_accel::batch::check_batch_lengths;
+use dynray_accel::{BatchQuery, BATCH_CHUNK};
 use dynray_geom::{Ray, TriangleMesh};
 use rayon::prelude::*;
-use std::hint::black_box;
 use std::time::Instant;
 
-/// Rays per rayon task: the same as [`crate::measure::timed_pass`], so their passes and
-/// ours are scheduled alike.
-pub const CHUNK: usize = 1024;
+/// Rays per rayon task: the same as the [`BatchQuery`] blanket implementation that times
+/// our structures, so their passes and ours are scheduled alike.
+pub const CHUNK: usize = BATCH_CHUNK;
 
 /// The primitive index of a miss in a closest-hit answer.
 pub const MISS: u32 = u32::MAX;
@@ -24,30 +25,24 @@ pub const MISS: u32 = u32::MAX;
 /// The structure of ours the ratios compare with.
 pub const OURS: &str = "bvh";
 
-/// A library's structure built over one mesh, ready to trace.
-pub trait Traceable: Send + Sync {
+/// A library's structure built over one mesh, ready to trace through the same
+/// [`BatchQuery`] trait as ours, with what the report says about it besides.
+pub struct Built {
+    /// The queries (every adapter traces in parallel over chunks of [`CHUNK`] rays).
+    pub query: Box<dyn BatchQuery + Send>,
     /// Bytes the structure holds (including its copy of the triangles), where the library
     /// reports it or it can be computed from its arrays.
-    fn memory_bytes(&self) -> Option<usize>;
+    pub memory_bytes: Option<usize>,
+    /// True when `occluded_into` is the library's own any-hit query (not a closest-hit
+    /// query in disguise).
+    pub any_hit: bool,
+}
 
-    /// Closest hit of every ray: `(t, triangle index in the mesh)`, `(inf, MISS)` for a miss.
-    /// `out.len() == rays.len()`.
-    fn closest(&self, rays: &[Ray], out: &mut [(f32, u32)]);
-
-    /// True when [`Traceable::occluded`] is the library's own any-hit query.
-    fn has_any_hit(&self) -> bool {
-        false
-    }
-
-    /// Whether anything lies on each ray within [tmin, tmax]. Default: through
-    /// [`Traceable::closest`] (for libraries without an any-hit query).
-    fn occluded(&self, rays: &[Ray], out: &mut [bool]) {
-        let mut hits = vec![(f32::INFINITY, MISS); rays.len()];
-        self.closest(rays, &mut hits);
-        for (o, h) in out.iter_mut().zip(&hits) {
-            *o = h.1 != MISS;
-        }
-    }
+/// Runs `f` on matching chunks of [`CHUNK`] rays and answers in parallel, after checking
+/// the [`BatchQuery`] slice contract: how every adapter fans a batch out over the threads.
+pub(crate) fn par_chunks_into<T: Send>(rays: &[Ray], out: &mut [T], f: impl Fn(&[Ray], &mut [T]) + Sync) {
+    check_batch_lengths(rays.len(), out.len());
+    rays.par_chunks(CHUNK).zip(out.par_chunks_mut(CHUNK)).for_each(|(r, o)| f(r, o));
 }
 
 /// A competitor: one library with one way of building and traversing.
@@ -64,7 +59,7 @@ pub trait Competitor: Send + Sync {
     }
     /// Builds over `mesh` (the timed part: everything from our mesh to a traceable
     /// structure, including the library's copy of the triangles).
-    fn build(&self, mesh: &TriangleMesh) -> Result<Box<dyn Traceable>>;
+    fn build(&self, mesh: &TriangleMesh) -> Result<Built>;
 }
 
 /// Every competitor compiled in; the ones that cannot run here are left out with a note
@@ -95,32 +90,6 @@ fn note(notes: &mut Vec<String>, n: String) {
     }
 }
 
-/// One timed closest-hit or any-hit pass over `rays` on the current rayon pool, in chunks
-/// of [`CHUNK`] exactly as our structures' passes; returns ms and the hit count.
-pub fn timed_pass(t: &dyn Traceable, rays: &[Ray], shadow: bool) -> (f64, usize) {
-    let start = Instant::now();
-    let hits: usize = if shadow {
-        rays.par_chunks(CHUNK)
-            .map(|c| {
-                let mut out = [false; CHUNK];
-                let out = &mut out[..c.len()];
-                t.occluded(c, out);
-                out.iter().filter(|o| **o).count()
-            })
-            .sum()
-    } else {
-        rays.par_chunks(CHUNK)
-            .map(|c| {
-                let mut out = [(f32::INFINITY, MISS); CHUNK];
-                let out = &mut out[..c.len()];
-                t.closest(c, out);
-                out.iter().filter(|o| o.1 != MISS).count()
-            })
-            .sum()
-    };
-    (ms(start), black_box(hits))
-}
-
 /// How a competitor's answers compare with brute force's on the sampled rays.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Agreement {
@@ -146,18 +115,17 @@ impl Agreement {
 }
 
 /// Compares `t`'s answers on the sampled rays of `exp` with brute force's.
-pub fn agreement(t: &dyn Traceable, rays: &[Ray], exp: &Expected) -> Agreement {
+pub fn agreement<Q: BatchQuery + ?Sized>(t: &Q, rays: &[Ray], exp: &Expected) -> Agreement {
     let sample: Vec<Ray> = exp.indices.iter().map(|&i| rays[i]).collect();
     let mut a = Agreement { checked: sample.len(), ..Default::default() };
     if exp.kind.is_shadow() {
-        let mut got = vec![false; sample.len()];
-        sample.par_chunks(CHUNK).zip(got.par_chunks_mut(CHUNK)).for_each(|(r, o)| t.occluded(r, o));
+        let got = t.occluded_batch(&sample);
         a.same_answer = got.iter().zip(&exp.occluded).filter(|(g, w)| g == w).count();
         a.same_hit_or_miss = a.same_answer;
     } else {
-        let mut got = vec![(f32::INFINITY, MISS); sample.len()];
-        sample.par_chunks(CHUNK).zip(got.par_chunks_mut(CHUNK)).for_each(|(r, o)| t.closest(r, o));
-        for (&(gt, gp), want) in got.iter().zip(&exp.hits) {
+        let got = t.intersect_batch(&sample);
+        for (g, want) in got.iter().zip(&exp.hits) {
+            let (gt, gp) = (g.t, g.prim);
             let want_prim = if want.is_hit() { want.prim } else { MISS };
             if (gp != MISS) == want.is_hit() {
                 a.same_hit_or_miss += 1;
@@ -176,7 +144,7 @@ pub fn agreement(t: &dyn Traceable, rays: &[Ray], exp: &Expected) -> Agreement {
 
 /// Builds `c` once as a warm-up, then `repeat` more times; returns the last structure and
 /// the timed builds in ms (as [`crate::measure::timed_builds`]).
-pub fn timed_builds(c: &dyn Competitor, mesh: &TriangleMesh, repeat: usize) -> Result<(Box<dyn Traceable>, Vec<f64>)> {
+pub fn timed_builds(c: &dyn Competitor, mesh: &TriangleMesh, repeat: usize) -> Result<(Built, Vec<f64>)> {
     let mut built = c.build(mesh)?;
     let mut times = Vec::with_capacity(repeat);
     for _ in 0..repeat.max(1) {
@@ -215,7 +183,7 @@ pub fn measure_scene(
         let (built, build_ms_runs) =
             timed_builds(c.as_ref(), mesh, repeat).with_context(|| format!("{scene}: cannot build {label}"))?;
         let build_ms = median(&build_ms_runs);
-        let memory_bytes = built.memory_bytes();
+        let memory_bytes = built.memory_bytes;
         let mut kinds = Vec::new();
         for (kind, rays) in &sets.sets {
             if c.kinds().is_some_and(|ks| !ks.contains(kind)) {
@@ -223,18 +191,18 @@ pub fn measure_scene(
             }
             step(&format!("{label}: {}", kind.name()));
             let shadow = kind.is_shadow();
-            timed_pass(built.as_ref(), rays, shadow);
+            timed_pass(built.query.as_ref(), rays, shadow);
             let mut runs = Vec::with_capacity(repeat);
             let mut hits = 0;
             for _ in 0..repeat.max(1) {
-                let (t, h) = timed_pass(built.as_ref(), rays, shadow);
+                let (t, h) = timed_pass(built.query.as_ref(), rays, shadow);
                 runs.push(t);
                 hits = h;
             }
             let agree = expected
                 .iter()
                 .find(|e| e.kind == *kind)
-                .map(|e| agreement(built.as_ref(), rays, e))
+                .map(|e| agreement(built.query.as_ref(), rays, e))
                 .unwrap_or_default();
             let trace_ms = median(&runs);
             let mrays_per_s = if trace_ms > 0.0 { rays.len() as f64 / trace_ms / 1e3 } else { 0.0 };
@@ -243,7 +211,7 @@ pub fn measure_scene(
             kinds.push(CompetitorKind {
                 kind: kind.name().to_string(),
                 rays: rays.len(),
-                any_hit: shadow && built.has_any_hit(),
+                any_hit: shadow && built.any_hit,
                 trace_ms,
                 trace_ms_runs: runs,
                 mrays_per_s,

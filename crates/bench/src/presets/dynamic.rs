@@ -13,8 +13,8 @@ use crate::progress::progress_bar;
 use crate::rays::{self, RayKind, RaySets};
 use crate::report::{median, DynamicResult, DynamicRun, Mismatch};
 use crate::scenes::load_scenes;
-use crate::variant::AccelVariant;
 use anyhow::{Context, Result};
+use dynray_accel::AccelSpec;
 use dynray_accel::{Accel, Brute};
 use dynray_geom::{TriangleMesh, Vec3};
 use dynray_render::{render, RenderOptions};
@@ -54,7 +54,7 @@ pub const SIZE: (u32, u32) = (320, 240);
 
 /// Runs the preset (default: the bunny and the dragon at its 48k-triangle resolution, 60
 /// frames at 320×240; quick: dragon-res4, 4 frames at 128×96).
-pub fn run(config: &BenchConfig, accels: &[AccelVariant], mismatches: &mut Vec<Mismatch>) -> Result<DynamicResult> {
+pub fn run(config: &BenchConfig, accels: &[AccelSpec], mismatches: &mut Vec<Mismatch>) -> Result<DynamicResult> {
     let names: Vec<String> = if !config.scenes.is_empty() {
         config.scenes.clone()
     } else if config.quick {
@@ -74,9 +74,10 @@ pub fn run(config: &BenchConfig, accels: &[AccelVariant], mismatches: &mut Vec<M
         let sets = RaySets { sets: vec![(RayKind::Primary, primary)] };
         let rays = &sets.sets[0].1;
         for v in accels {
-            let label = v.label();
-            let mut accel: Box<dyn Accel> =
-                v.build_in(&sc.frame).with_context(|| format!("{}: cannot build {label}", sc.name))?;
+            let label = v.to_string();
+            let mut accel: Box<dyn Accel> = v
+                .build(&sc.frame.mesh, Some(sc.frame.camera.position))
+                .with_context(|| format!("{}: cannot build {label}", sc.name))?;
             let mut frame = sc.frame.clone();
             frame.settings.width = width;
             frame.settings.height = height;
@@ -94,7 +95,10 @@ pub fn run(config: &BenchConfig, accels: &[AccelVariant], mismatches: &mut Vec<M
                 // the preset's cost and measure the same thing.
                 if accel.update_refits() {
                     let t = Instant::now();
-                    black_box(v.build_in(&frame).with_context(|| format!("{} frame {f}: rebuild {label}", sc.name))?);
+                    black_box(
+                        v.build(&frame.mesh, Some(frame.camera.position))
+                            .with_context(|| format!("{} frame {f}: rebuild {label}", sc.name))?,
+                    );
                     rebuild.push(ms(t));
                 } else {
                     rebuild.push(up);

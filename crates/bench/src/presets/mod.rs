@@ -9,16 +9,16 @@ pub mod seed003_sweeps;
 pub mod seed004;
 pub mod study;
 
-use crate::variant::AccelVariant;
 use dynray_accel::AccelKind;
+use dynray_accel::AccelSpec;
 
 /// The accelerated structure of a preset that compares one structure with brute force:
 /// the first non-brute one asked for, else brute itself.
-pub fn accelerated(accels: &[AccelVariant]) -> AccelVariant {
+pub fn accelerated(accels: &[AccelSpec]) -> AccelSpec {
     accels
         .iter()
         .find(|a| a.kind != AccelKind::Brute)
         .or(accels.first())
         .cloned()
-        .unwrap_or_else(|| AccelVariant::new(AccelKind::Brute))
+        .unwrap_or_else(|| AccelSpec::new(AccelKind::Brute))
 }

@@ -215,7 +215,7 @@ mod tests {
         assert_eq!(s.plan.len(), 3);
         for (_, v) in &s.plan {
             assert_eq!(v.len(), 12);
-            assert_eq!(v.iter().filter(|a| a.label().starts_with("bih")).count(), 10);
+            assert_eq!(v.iter().filter(|a| a.to_string().starts_with("bih")).count(), 10);
         }
         assert_eq!(study(&BenchConfig::new(true)).plan.len(), 1);
     }

@@ -16,7 +16,7 @@ use std::fmt::Write;
 
 const BVH: &str = "bvh";
 
-fn variants(depth: u32) -> Vec<crate::AccelVariant> {
+fn variants(depth: u32) -> Vec<dynray_accel::AccelSpec> {
     study::variants(
         "seed002",
         &format!(
@@ -177,7 +177,7 @@ mod tests {
         assert_eq!(display_name("octree-descent:max_depth=11"), "octree top-down descent, balanced");
         let s = study(&BenchConfig::new(false));
         assert_eq!(s.plan[1].0, "dragon");
-        assert!(s.plan[1].1.iter().any(|v| v.label() == "octree:max_depth=11,balance=off"));
+        assert!(s.plan[1].1.iter().any(|v| v.to_string() == "octree:max_depth=11,balance=off"));
         assert_eq!(s.plan[0].1.len(), 5);
     }
 }

@@ -18,8 +18,8 @@ use crate::measure::ms;
 use crate::progress::progress_bar;
 use crate::report::{median, Mismatch, Seed003Level, Seed003Result, Seed003Scene};
 use crate::scenes::load_scenes;
-use crate::variant::AccelVariant;
 use anyhow::{Context, Result};
+use dynray_accel::AccelSpec;
 use dynray_accel::{Accel, Brute};
 use dynray_render::{render, Film, RenderOptions};
 use dynray_scene::Frame;
@@ -41,7 +41,7 @@ pub const LEVELS: u32 = 10;
 /// the Cornell box and dragon-res4 at 64×48).
 pub fn run(
     config: &BenchConfig,
-    accels: &[AccelVariant],
+    accels: &[AccelSpec],
     notes: &mut Vec<String>,
     mismatches: &mut Vec<Mismatch>,
 ) -> Result<Seed003Result> {
@@ -76,12 +76,13 @@ pub fn run(
         frame.settings.width = width;
         frame.settings.height = height;
         let mut builds = Vec::new();
-        let mut accel =
-            accel_v.build_in(&frame).with_context(|| format!("{}: cannot build {}", sc.name, accel_v.label()))?;
+        let mut accel = accel_v
+            .build(&frame.mesh, Some(frame.camera.position))
+            .with_context(|| format!("{}: cannot build {}", sc.name, accel_v.to_string()))?;
         for _ in 0..config.repeat.max(1) {
             drop(accel);
             let t = Instant::now();
-            accel = accel_v.build_in(&frame)?;
+            accel = accel_v.build(&frame.mesh, Some(frame.camera.position))?;
             builds.push(ms(t));
         }
         let brute = if frame.mesh.triangle_count() <= BRUTE_MAX_TRIANGLES {
@@ -97,9 +98,10 @@ pub fn run(
             let (single_ms, film_1, rays) = timed(accel.as_ref(), Some(&single));
             let (parallel_ms, film_n, _) = timed(accel.as_ref(), None);
             let brute_run = brute.as_ref().map(|b| timed(b, Some(&single)));
-            let mut identical = compare(&film_1, &film_n, &sc.name, &accel_v.label(), level, "1 thread", mismatches);
+            let mut identical =
+                compare(&film_1, &film_n, &sc.name, &accel_v.to_string(), level, "1 thread", mismatches);
             if let Some((_, film_b, _)) = &brute_run {
-                identical &= compare(film_b, &film_n, &sc.name, &accel_v.label(), level, "brute force", mismatches);
+                identical &= compare(film_b, &film_n, &sc.name, &accel_v.to_string(), level, "brute force", mismatches);
             }
             let speedup = if parallel_ms > 0.0 { single_ms / parallel_ms } else { 0.0 };
             let brute_ms = brute_run.map(|(t, _, _)| t);
@@ -122,7 +124,7 @@ pub fn run(
                 scene: &sc.name,
                 frame: &frame,
                 accel: accel.as_ref(),
-                label: &accel_v.label(),
+                label: &accel_v.to_string(),
                 single: &single,
                 threads,
                 repeat: config.repeat,
@@ -142,7 +144,7 @@ pub fn run(
     Ok(Seed003Result {
         width,
         height,
-        accel: accel_v.label(),
+        accel: accel_v.to_string(),
         threads,
         brute_max_triangles: BRUTE_MAX_TRIANGLES,
         scenes: out,

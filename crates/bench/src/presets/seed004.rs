@@ -232,7 +232,7 @@ mod tests {
     #[test]
     fn every_resolution_pairs_the_two_structures() {
         let s = study(&BenchConfig::new(false));
-        let labels: Vec<String> = s.plan[0].1.iter().map(|v| v.label()).collect();
+        let labels: Vec<String> = s.plan[0].1.iter().map(|v| v.to_string()).collect();
         for res in RESOLUTIONS {
             let (p, t) = super::labels(res);
             assert!(labels.contains(&p) && labels.contains(&t), "{res}: {labels:?}");

@@ -5,15 +5,16 @@ use crate::config::BenchConfig;
 use crate::plan::{measure_scenes, SceneMeasure};
 use crate::rays::RayKind;
 use crate::report::{Mismatch, Ratio, SceneResult, StructureResult, StudyResult};
-use crate::variant::{parse_accels, AccelVariant};
+use crate::variant::parse_accels;
 use anyhow::Result;
+use dynray_accel::AccelSpec;
 
 /// A preset's experiment.
 pub struct Study {
     /// Preset name.
     pub preset: &'static str,
     /// Scenes with the variants measured on each.
-    pub plan: Vec<(String, Vec<AccelVariant>)>,
+    pub plan: Vec<(String, Vec<AccelSpec>)>,
     /// Ray kinds.
     pub rays: Vec<RayKind>,
     /// Image size when the command line gives none.
@@ -24,7 +25,7 @@ pub struct Study {
 
 /// Parses a variant list written in the preset's source (a typo there is a bug, so the
 /// error says which preset).
-pub fn variants(preset: &str, list: &str) -> Vec<AccelVariant> {
+pub fn variants(preset: &str, list: &str) -> Vec<AccelSpec> {
     parse_accels(list).unwrap_or_else(|e| panic!("preset {preset}: bad built-in structure list `{list}`: {e}"))
 }
 
@@ -32,9 +33,9 @@ pub fn variants(preset: &str, list: &str) -> Vec<AccelVariant> {
 /// or the preset's own plan.
 pub fn plan_or_given(
     config: &BenchConfig,
-    own: Vec<(String, Vec<AccelVariant>)>,
+    own: Vec<(String, Vec<AccelSpec>)>,
     quick: &[&str],
-) -> Vec<(String, Vec<AccelVariant>)> {
+) -> Vec<(String, Vec<AccelSpec>)> {
     let default_variants = own.first().map(|(_, v)| v.clone()).unwrap_or_default();
     if !config.scenes.is_empty() {
         return config.scenes.iter().map(|s| (s.clone(), default_variants.clone())).collect();
