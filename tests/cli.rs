@@ -251,6 +251,9 @@ fn errors_print_each_cause_once() {
     assert!(err.contains("dir.ply"), "{err}");
     let cause = "os error 21";
     assert_eq!(err.matches(cause).count(), 1, "the cause is repeated: {err}");
+}
+
+#[test]
 fn accel_parameters_reach_the_structure_and_bad_keys_are_usage_errors() {
     let o = dynray(&["info", &bunny(), "--accel", "bih:max_prims=5"]);
     assert!(o.status.success(), "{}", stderr(&o));
