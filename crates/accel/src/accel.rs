@@ -1,7 +1,7 @@
 //! The interface every acceleration structure implements.
 
 use crate::{BuildError, TraversalCounts};
-use dynray_geom::{Hit, Ray, TriangleMesh};
+use dynray_geom::{Hit, Ray, TriangleMesh, Vec3};
 
 /// A ray-query structure over one triangle mesh.
 ///
@@ -28,9 +28,24 @@ pub trait Accel: Send + Sync {
     /// Shape of the structure, for `dynray info` and the bench.
     fn stats(&self) -> AccelStats;
 
+    /// Checks every invariant the traversal relies on (structure-specific: children inside
+    /// parents, every triangle reachable, indices in range, depth within the traversal
+    /// stack, …) and returns [`Accel::stats`]. `mesh` is the mesh of the last build or
+    /// update; structures that keep copies of its triangles (bvh, brute) check them
+    /// against it. Builds run the same checks under `debug_assertions`; tests always.
+    fn validate(&self, mesh: &TriangleMesh) -> Result<AccelStats, InvalidStructure>;
+
     /// Brings the structure up to date with moved vertices (same triangles, same
     /// topology): a refit where the structure allows it, otherwise a rebuild.
     fn update(&mut self, mesh: &TriangleMesh) -> Result<(), BuildError>;
+
+    /// [`Accel::update`] for a view from `eye` (the camera position of the new frame).
+    /// View-dependent structures (the A-PIT and the A-buffer, which centre their cube on
+    /// the observer) move to it; every other structure ignores `eye` (the default).
+    fn update_for_eye(&mut self, mesh: &TriangleMesh, eye: Vec3) -> Result<(), BuildError> {
+        let _ = eye;
+        self.update(mesh)
+    }
 
     /// True when [`Accel::update`] refits (keeps the tree, recomputes its bounds) rather
     /// than rebuilding, so timing a rebuild separately tells something new.
@@ -50,7 +65,9 @@ pub struct AccelStats {
     pub max_depth: u32,
     /// Triangle references stored in leaves (> triangles for splitting structures).
     pub primitive_refs: usize,
-    /// `leaf_sizes[k]` = number of leaves holding `k` triangles (last bucket: `k` or more).
+    /// `leaf_sizes[k]` = number of leaves holding `k` triangles; the last bucket counts
+    /// `k` or more. Every structure fills it through [`LeafSizes`], so the convention
+    /// (bucket count, trimming) is the same for all.
     pub leaf_sizes: Vec<usize>,
     /// Surface-area-heuristic cost of the tree, where defined.
     pub sah_cost: Option<f64>,
@@ -58,4 +75,68 @@ pub struct AccelStats {
     pub memory_bytes: usize,
     /// Structure-specific figures, as (name, value) for display.
     pub extra: Vec<(String, String)>,
+}
+
+/// Builds [`AccelStats::leaf_sizes`] with the one convention every structure shares:
+/// [`LeafSizes::BUCKETS`] buckets, bucket `k` = leaves (or non-empty-or-empty cells, as the
+/// structure counts them) with `k` triangles, the last one `BUCKETS - 1` or more; trailing
+/// empty buckets are dropped, so the last bucket printed is also "this many or more".
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct LeafSizes(Vec<usize>);
+
+impl LeafSizes {
+    /// Buckets kept: sizes 0..=31 exactly, 32 and above together (leaf caps of the
+    /// presets stay below 32, so real leaves are counted exactly).
+    pub const BUCKETS: usize = 33;
+
+    /// An empty histogram.
+    pub fn new() -> Self {
+        Self(vec![0; Self::BUCKETS])
+    }
+
+    /// Counts one leaf of `triangles` triangles.
+    #[inline]
+    pub fn add(&mut self, triangles: usize) {
+        self.0[triangles.min(Self::BUCKETS - 1)] += 1;
+    }
+
+    /// The histogram, trailing empty buckets dropped.
+    pub fn finish(mut self) -> Vec<usize> {
+        let last = self.0.iter().rposition(|&c| c > 0).map_or(0, |i| i + 1);
+        self.0.truncate(last);
+        self.0
+    }
+}
+
+impl Default for LeafSizes {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl FromIterator<usize> for LeafSizes {
+    fn from_iter<I: IntoIterator<Item = usize>>(sizes: I) -> Self {
+        let mut h = Self::new();
+        sizes.into_iter().for_each(|n| h.add(n));
+        h
+    }
+}
+
+/// A structure that failed [`Accel::validate`]: which one, and its own description of
+/// the first broken invariant (the structure's error type, e.g. [`crate::bvh::InvalidBvh`],
+/// is the source).
+#[derive(Debug, thiserror::Error)]
+#[error("{structure} failed validation: {source}")]
+pub struct InvalidStructure {
+    /// [`Accel::name`] of the structure.
+    pub structure: &'static str,
+    /// What is wrong, with the values involved.
+    pub source: Box<dyn std::error::Error + Send + Sync>,
+}
+
+impl InvalidStructure {
+    /// Wraps a structure's own error (or message).
+    pub fn new(structure: &'static str, source: impl Into<Box<dyn std::error::Error + Send + Sync>>) -> Self {
+        Self { structure, source: source.into() }
+    }
 }

@@ -1,5 +1,6 @@
 //! Brute force: every ray against every triangle. The oracle all structures must match.
 
+use crate::InvalidStructure;
 use crate::{Accel, AccelStats, BuildError, Counter, NoCount, TraversalCounts};
 use dynray_geom::{Hit, PreparedRay, Ray, Triangle, TriangleMesh};
 
@@ -33,6 +34,17 @@ impl Brute {
 }
 
 impl Accel for Brute {
+    fn validate(&self, mesh: &TriangleMesh) -> Result<AccelStats, InvalidStructure> {
+        if self.tris.len() != mesh.triangle_count() {
+            let e = format!("{} triangles copied, mesh has {}", self.tris.len(), mesh.triangle_count());
+            return Err(InvalidStructure::new(self.name(), e));
+        }
+        if let Some(i) = (0..self.tris.len()).find(|&i| self.tris[i] != mesh.triangle(i)) {
+            return Err(InvalidStructure::new(self.name(), format!("triangle {i} is not a copy of the mesh's")));
+        }
+        Ok(self.stats())
+    }
+
     fn name(&self) -> &'static str {
         "brute"
     }

@@ -4,7 +4,45 @@
 //! closest-hit ([`Accel::intersect`]) and any-hit ([`Accel::occluded`]) queries that are
 //! bit-identical to [`Brute`]'s, because all of them call the one triangle test of
 //! `dynray-geom` and break `t` ties towards the lower triangle index.
+//!
+//! Many rays at once go through [`BatchQuery`], which every structure has; a structure
+//! and its parameters can be named as text with [`AccelSpec`] (`"bih:max_prims=5"`).
+//!
+//! ```
+//! use dynray_accel::{Accel, AccelSpec, BatchQuery, Bvh, BvhParams};
+//! use dynray_geom::{Ray, TriangleMesh, Vec3};
+//!
+//! // A unit quad in the plane z = 0, as two triangles.
+//! let mesh = TriangleMesh::new(
+//!     vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]],
+//!     vec![[0, 1, 2], [0, 2, 3]],
+//! );
+//! let bvh = Bvh::build(&mesh, &BvhParams::default())?;
+//! bvh.validate(&mesh)?;
+//!
+//! // One ray straight down onto the quad.
+//! let hit = bvh.intersect(&Ray::new(Vec3::new(0.75, 0.25, 1.0), Vec3::new(0.0, 0.0, -1.0)));
+//! assert_eq!(hit.prim, 0);
+//! assert!((hit.t - 1.0).abs() < 1e-6);
+//!
+//! // A batch: answers in ray order, the second ray misses.
+//! let rays = [
+//!     Ray::new(Vec3::new(0.25, 0.75, 1.0), Vec3::new(0.0, 0.0, -1.0)),
+//!     Ray::new(Vec3::new(2.0, 2.0, 1.0), Vec3::new(0.0, 0.0, -1.0)),
+//! ];
+//! let hits = bvh.intersect_batch(&rays);
+//! assert_eq!(hits[0].prim, 1);
+//! assert!(!hits[1].is_hit());
+//! assert_eq!(bvh.occluded_batch(&rays), [true, false]);
+//!
+//! // The same through a structure named on a command line: same hits.
+//! let bih = "bih:max_prims=1".parse::<AccelSpec>()?.build(&mesh, None)?;
+//! assert!(bih.intersect_batch(&rays).iter().zip(&hits).all(|(a, b)| a.same_as(b)));
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 #![deny(missing_docs)]
+// Everything here is plain safe Rust (SIMD, where it comes, through safe wrappers).
+#![forbid(unsafe_code)]
 
 mod accel;
 pub mod apit;
@@ -21,7 +59,7 @@ mod registry;
 mod spec;
 pub mod structure_params;
 
-pub use accel::{Accel, AccelStats};
+pub use accel::{Accel, AccelStats, InvalidStructure, LeafSizes};
 pub use apit::{ABuffer, Apit, ApitParams, Fragment};
 pub use batch::{BatchQuery, BATCH_CHUNK};
 pub use bih::{Bih, BihParams};

@@ -9,12 +9,18 @@ use dynray_geom::{Ray, TriangleMesh, Vec3};
 use rand::{rngs::SmallRng, Rng, SeedableRng};
 use support::*;
 
-/// Builds both variants, validates them, and checks them against the oracle.
-fn check_both(mesh: &TriangleMesh, params: &KdTreeParams, rays: &[Ray], label: &str) -> (KdTree, KdTreeRopes) {
+/// Builds both variants and validates them.
+fn build_both(mesh: &TriangleMesh, params: &KdTreeParams, label: &str) -> (KdTree, KdTreeRopes) {
     let std_tree = KdTree::build_with(mesh, params).unwrap();
     let ropes = KdTreeRopes::build_with(mesh, params).unwrap();
-    std_tree.validate().unwrap_or_else(|e| panic!("{label}: kdtree invalid: {e}"));
-    ropes.validate().unwrap_or_else(|e| panic!("{label}: kdtree-ropes invalid: {e}"));
+    std_tree.validate(mesh).unwrap_or_else(|e| panic!("{label}: kdtree invalid: {e}"));
+    ropes.validate(mesh).unwrap_or_else(|e| panic!("{label}: kdtree-ropes invalid: {e}"));
+    (std_tree, ropes)
+}
+
+/// Builds both variants, validates them, and checks them against the oracle.
+fn check_both(mesh: &TriangleMesh, params: &KdTreeParams, rays: &[Ray], label: &str) -> (KdTree, KdTreeRopes) {
+    let (std_tree, ropes) = build_both(mesh, params, label);
     assert_matches_oracle(&std_tree, mesh, rays, label);
     assert_matches_oracle(&ropes, mesh, rays, label);
     (std_tree, ropes)
@@ -41,10 +47,10 @@ fn assert_bounded(t: &dyn Accel, tris: usize, params: &KdTreeParams, label: &str
 }
 
 #[test]
-fn bunny_standard_set_matches_brute_force() {
+fn bunny_tree_is_deep_with_bounded_duplication() {
+    // The oracle check of the bunny is in oracle.rs; this is the shape of the tree.
     let mesh = bunny();
-    let rays = bunny_rays(&mesh);
-    let (t, r) = check_both(&mesh, &KdTreeParams::default(), &rays, "bunny");
+    let (t, r) = build_both(&mesh, &KdTreeParams::default(), "bunny");
     let s = t.stats();
     // A real SAH kd-tree on the bunny: deep, many leaves, and duplication from straddling
     // triangles that the depth limit keeps in check (≈5.5 with the defaults).
@@ -56,18 +62,12 @@ fn bunny_standard_set_matches_brute_force() {
 }
 
 #[test]
-fn dragon_standard_set_matches_brute_force() {
-    let mesh = dragon_res2();
-    check_both(&mesh, &KdTreeParams::default(), &dragon_rays(&mesh), "dragon_res2");
-}
-
-#[test]
-fn every_preset_matches_brute_force_on_bunny() {
+fn presets_differ_and_respect_their_bounds_on_bunny() {
+    // Every preset's oracle check is in oracle.rs; here what distinguishes them.
     let mesh = bunny();
-    let rays = bunny_rays(&mesh);
     let mut nodes = Vec::new();
     for (name, params) in KdTreeParams::presets() {
-        let (t, _) = check_both(&mesh, &params, &rays, &format!("bunny/{name}"));
+        let (t, _) = build_both(&mesh, &params, &format!("bunny/{name}"));
         assert_bounded(&t, mesh.triangle_count(), &params, name);
         nodes.push(t.stats().nodes);
     }
@@ -217,8 +217,8 @@ fn extreme_aspect_ratio_scene_matches_brute_force() {
     let brute = dynray_accel::Brute::build(&mesh).unwrap();
     let t = KdTree::build_with(&mesh, &params).unwrap();
     let r = KdTreeRopes::build_with(&mesh, &params).unwrap();
-    t.validate().unwrap();
-    r.validate().unwrap();
+    t.validate(&mesh).unwrap();
+    r.validate(&mesh).unwrap();
     for (i, ray) in rays.iter().enumerate() {
         let want = brute.intersect(ray);
         for a in [&t as &dyn Accel, &r] {

@@ -12,7 +12,7 @@ use support::*;
 
 fn both(mesh: &TriangleMesh, params: &OctreeParams) -> (Octree, OctreeDescent) {
     let walk = Octree::build(mesh, params).expect("build");
-    walk.validate().expect("valid octree");
+    walk.validate(mesh).expect("valid octree");
     let descent = OctreeDescent::build(mesh, params).expect("build");
     (walk, descent)
 }
@@ -24,37 +24,23 @@ fn check_both(mesh: &TriangleMesh, params: &OctreeParams, rays: &[Ray], label: &
 }
 
 #[test]
-fn bunny_balanced_matches_brute() {
-    let mesh = bunny();
-    check_both(&mesh, &OctreeParams::default(), &bunny_rays(&mesh), "bunny balanced");
-}
-
-#[test]
 fn bunny_unbalanced_matches_brute() {
     let mesh = bunny();
     let (walk, _) = both(&mesh, &OctreeParams::unbalanced());
     // The unbalanced tree must really exercise the point-location crossing.
     let locate = walk.stats().extra.iter().find(|(k, _)| k == "faces crossed by point location").unwrap().1.clone();
     assert!(locate.parse::<usize>().unwrap() > 0, "no LOCATE faces in the unbalanced bunny");
-    check_both(&mesh, &OctreeParams::unbalanced(), &bunny_rays(&mesh), "bunny unbalanced");
+    // Its oracle check on the standard set is oracle.rs's `unbalanced` preset; here a
+    // sample through both traversals.
+    check_both(&mesh, &OctreeParams::unbalanced(), &random_rays(&mesh, 6_000, 24), "bunny unbalanced");
 }
 
 #[test]
-fn dragon_matches_brute_balanced_and_unbalanced() {
-    let mesh = dragon_res2();
-    let rays = dragon_rays(&mesh);
-    check_both(&mesh, &OctreeParams::default(), &rays, "dragon balanced");
-    check_both(&mesh, &OctreeParams::unbalanced(), &rays, "dragon unbalanced");
-}
-
-#[test]
-fn every_preset_matches_brute_on_bunny_sample() {
+fn a_deep_tree_with_tiny_leaves_matches_brute_on_bunny_sample() {
+    // The presets are checked in oracle.rs.
     let mesh = bunny();
     let mut rays = random_rays(&mesh, 6_000, 21);
     rays.extend(adversarial_rays(&mesh, 2_000, 22));
-    for (name, p) in OctreeParams::presets() {
-        check_both(&mesh, &p, &rays, name);
-    }
     // Small leaves and deep trees stress the walk hardest.
     let deep = OctreeParams { max_depth: 10, leaf_threshold: 2, balance: true };
     check_both(&mesh, &deep, &rays, "depth 10, 2 per leaf");
@@ -64,7 +50,7 @@ fn every_preset_matches_brute_on_bunny_sample() {
 fn balance_gives_zero_one_or_four_neighbours_per_face() {
     let mesh = bunny();
     let oct = Octree::build(&mesh, &OctreeParams::default()).unwrap();
-    oct.validate().unwrap();
+    oct.validate(&mesh).unwrap();
     let unbalanced = Octree::build(&mesh, &OctreeParams::unbalanced()).unwrap();
     assert!(oct.leaves_added_by_balance() > 0);
     assert_eq!(unbalanced.leaves_added_by_balance(), 0);
@@ -111,7 +97,7 @@ fn update_rebuilds_moved_geometry() {
         p[0] *= 1.5;
     }
     oct.update(&mesh).unwrap();
-    oct.validate().unwrap();
+    oct.validate(&mesh).unwrap();
     assert_matches_oracle(&oct, &mesh, &random_rays(&mesh, 3_000, 31), "moved bunny");
     let mut fewer = mesh.clone();
     fewer.indices.pop();

@@ -52,7 +52,7 @@ pub fn measure_scenes(
         let first = accels.first().context("no structure to measure")?;
         let reference = first
             .build(&sc.frame.mesh, Some(sc.frame.camera.position))
-            .with_context(|| format!("{}: cannot build {}", sc.name, first.to_string()))?;
+            .with_context(|| format!("{}: cannot build {}", sc.name, first))?;
         let sets = rays::generate(&sc.frame, how.width, how.height, &how.rays, reference.as_ref());
         drop(reference);
         let brute = Brute::build(&sc.frame.mesh).with_context(|| format!("{}: cannot build brute", sc.name))?;
@@ -81,7 +81,7 @@ pub fn measure_scenes(
                 height: how.height,
                 time_to_image: how.time_to_image,
             };
-            let step = |s: &str| bar.set_message(format!("{}{} / {}: {s}", how.label, sc.name, v.to_string()));
+            let step = |s: &str| bar.set_message(format!("{}{} / {}: {s}", how.label, sc.name, v));
             let (mut res, heat) = measure(v, &input, mismatches, &step)?;
             if let (Some(work), true) = (heat, how.heatmaps) {
                 let file = format!("heatmap-{}-{}.png", file_safe(&sc.name), file_safe(&res.accel));

@@ -1,5 +1,7 @@
 //! The result of a closest-hit query.
 
+use crate::{PreparedRay, Triangle};
+
 /// A closest hit: distance `t`, barycentrics `(u, v)` and the triangle index `prim`
 /// in the mesh's order. The hit point is `(1-u-v)·p0 + u·p1 + v·p2`.
 ///
@@ -31,6 +33,21 @@ impl Hit {
     #[inline]
     pub fn is_closer(t: f32, prim: u32, than: &Hit) -> bool {
         t < than.t || (t == than.t && prim < than.prim)
+    }
+
+    /// The leaf loop every structure shares: tests each `(triangle, mesh index)` against
+    /// `r` up to the current best `t` (and `tmax`) and keeps a hit that
+    /// [`Hit::is_closer`] says wins, so every structure breaks ties as brute force does.
+    /// Structures that store triangles in leaf order pass their copies with the ids.
+    #[inline(always)]
+    pub fn closest_of<'a>(&mut self, r: &PreparedRay, leaf: impl IntoIterator<Item = (&'a Triangle, u32)>) {
+        for (tri, prim) in leaf {
+            if let Some((t, u, v)) = tri.intersect(r, self.t.min(r.ray.tmax)) {
+                if Hit::is_closer(t, prim, self) {
+                    *self = Hit { t, u, v, prim };
+                }
+            }
+        }
     }
 
     /// True when both hits name the same triangle at the same `t` bits (or both miss).

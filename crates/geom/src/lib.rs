@@ -5,10 +5,13 @@
 //! through [`Triangle::intersect`] with the same [`PreparedRay`], the closest hit of
 //! any structure is bit-identical to brute force (same `t` bits, same triangle).
 #![deny(missing_docs)]
+// Everything here is plain safe Rust (SIMD, where it comes, through safe wrappers).
+#![forbid(unsafe_code)]
 
 mod aabb;
 mod hit;
 mod mesh;
+mod overlap;
 mod ray;
 mod triangle;
 
@@ -16,5 +19,6 @@ pub use aabb::{Aabb, SLAB_MARGIN};
 pub use glam::{Vec2, Vec3};
 pub use hit::Hit;
 pub use mesh::{MeshError, TriangleMesh};
+pub use overlap::triangle_box_overlap;
 pub use ray::{PreparedRay, Ray};
 pub use triangle::Triangle;

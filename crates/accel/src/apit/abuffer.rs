@@ -3,10 +3,11 @@
 
 use super::build::{build_filed, Base};
 use super::node::{Fragment, NONE};
-use super::params::ApitParams;
+use super::params::{ApitParams, Observer};
 use super::query::{any, closest, Candidates};
+use crate::InvalidStructure;
 use crate::{Accel, AccelStats, BuildError, Counter, NoCount, TraversalCounts};
-use dynray_geom::{Hit, Ray, TriangleMesh};
+use dynray_geom::{Hit, Ray, TriangleMesh, Vec3};
 use std::ops::ControlFlow;
 
 /// Six A-buffers on a cube around an observer, without interval trees (`--accel abuffer`).
@@ -37,7 +38,7 @@ impl ABuffer {
         }
         let me = Self { base: filed.base, heads, frags };
         #[cfg(debug_assertions)]
-        if let Err(e) = me.validate() {
+        if let Err(e) = me.check_invariants() {
             panic!("A-buffer built broken: {e}");
         }
         Ok(me)
@@ -86,6 +87,12 @@ impl Candidates for ABuffer {
 }
 
 impl Accel for ABuffer {
+    fn validate(&self, _mesh: &TriangleMesh) -> Result<AccelStats, InvalidStructure> {
+        let invalid = |e| InvalidStructure::new(self.name(), e);
+        self.check_invariants().map_err(invalid)?;
+        Ok(self.stats())
+    }
+
     fn name(&self) -> &'static str {
         "abuffer"
     }
@@ -129,5 +136,15 @@ impl Accel for ABuffer {
         }
         *self = Self::build(mesh, &self.base.params)?;
         Ok(())
+    }
+
+    /// Rebuilds with the cube centred on `eye` (seed 004 centres it on the observer every
+    /// frame), unless the structure was told `observer=center`. Later plain updates keep
+    /// this eye.
+    fn update_for_eye(&mut self, mesh: &TriangleMesh, eye: Vec3) -> Result<(), BuildError> {
+        if self.base.params.observer != Observer::BoundsCenter {
+            self.base.params = self.base.params.with_observer(eye);
+        }
+        self.update(mesh)
     }
 }

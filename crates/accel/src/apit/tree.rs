@@ -3,11 +3,12 @@
 
 use super::build::{build_filed, Base};
 use super::node::{Fragment, PitNode, NONE};
-use super::params::ApitParams;
+use super::params::{ApitParams, Observer};
 use super::pit::IntervalForest;
 use super::query::{any, closest, Candidates};
+use crate::InvalidStructure;
 use crate::{Accel, AccelStats, BuildError, Counter, NoCount, TraversalCounts};
-use dynray_geom::{Hit, Ray, TriangleMesh};
+use dynray_geom::{Hit, Ray, TriangleMesh, Vec3};
 use std::ops::ControlFlow;
 
 /// A-buffers + pseudo-interval trees on a cube around an observer (`--accel apit`).
@@ -67,7 +68,7 @@ impl Apit {
         let depth_mean = if nonempty > 0 { depth_sum as f64 / nonempty as f64 } else { 0.0 };
         let me = Self { base: filed.base, roots, forest, depth_max, depth_mean };
         #[cfg(debug_assertions)]
-        if let Err(e) = me.validate() {
+        if let Err(e) = me.check_invariants() {
             panic!("A-PIT built broken: {e}");
         }
         Ok(me)
@@ -100,6 +101,12 @@ impl Candidates for Apit {
 }
 
 impl Accel for Apit {
+    fn validate(&self, _mesh: &TriangleMesh) -> Result<AccelStats, InvalidStructure> {
+        let invalid = |e| InvalidStructure::new(self.name(), e);
+        self.check_invariants().map_err(invalid)?;
+        Ok(self.stats())
+    }
+
     fn name(&self) -> &'static str {
         "apit"
     }
@@ -146,5 +153,15 @@ impl Accel for Apit {
         }
         *self = Self::build(mesh, &self.base.params)?;
         Ok(())
+    }
+
+    /// Rebuilds with the cube centred on `eye` (seed 004 centres it on the observer every
+    /// frame), unless the structure was told `observer=center`. Later plain updates keep
+    /// this eye.
+    fn update_for_eye(&mut self, mesh: &TriangleMesh, eye: Vec3) -> Result<(), BuildError> {
+        if self.base.params.observer != Observer::BoundsCenter {
+            self.base.params = self.base.params.with_observer(eye);
+        }
+        self.update(mesh)
     }
 }

@@ -35,7 +35,7 @@ fn check_fragments(base: &Base, frags: &[Fragment]) -> Result<(), String> {
 
 impl ABuffer {
     /// Checks the structure's invariants; the error names the first broken one.
-    pub fn validate(&self) -> Result<(), String> {
+    pub(crate) fn check_invariants(&self) -> Result<(), String> {
         if self.heads.len() != self.base.cube.pixels() {
             return Err(format!("{} heads for {} pixels", self.heads.len(), self.base.cube.pixels()));
         }
@@ -61,7 +61,7 @@ impl ABuffer {
 impl Apit {
     /// Checks the structure's invariants (every tree's too); the error names the first
     /// broken one.
-    pub fn validate(&self) -> Result<(), String> {
+    pub(crate) fn check_invariants(&self) -> Result<(), String> {
         if self.roots.len() != self.base.cube.pixels() {
             return Err(format!("{} roots for {} pixels", self.roots.len(), self.base.cube.pixels()));
         }

@@ -39,6 +39,7 @@ pub use node::{BihNode, LEAF_FLAG, MAX_INDEX};
 pub use params::{BihParams, MAX_DEPTH_LIMIT};
 pub use validate::InvalidBih;
 
+use crate::InvalidStructure;
 use crate::StructureParams;
 use crate::{Accel, AccelStats, BuildError, NoCount, TraversalCounts};
 use dynray_geom::{Aabb, Hit, Ray, Triangle, TriangleMesh};
@@ -71,7 +72,7 @@ impl Bih {
         let tris = built.order.par_iter().map(|&i| mesh.triangle(i as usize)).collect();
         let bih = Self { nodes: built.nodes, tris, prim_ids: built.order, bounds, depth: built.depth, params: *params };
         #[cfg(debug_assertions)]
-        if let Err(e) = bih.validate() {
+        if let Err(e) = bih.check_invariants() {
             panic!("BIH builder produced an invalid tree: {e}");
         }
         Ok(bih)
@@ -99,6 +100,12 @@ impl Bih {
 }
 
 impl Accel for Bih {
+    fn validate(&self, _mesh: &TriangleMesh) -> Result<AccelStats, InvalidStructure> {
+        let invalid = |e| InvalidStructure::new(self.name(), e);
+        self.check_invariants().map_err(invalid)?;
+        Ok(self.stats())
+    }
+
     fn name(&self) -> &'static str {
         "bih"
     }
@@ -123,16 +130,13 @@ impl Accel for Bih {
     }
 
     fn stats(&self) -> AccelStats {
-        const BUCKETS: usize = 33;
-        let mut leaf_sizes = vec![0usize; BUCKETS];
+        let mut sizes = crate::LeafSizes::new();
         let mut leaves = 0;
         for n in self.nodes.iter().filter(|n| n.is_leaf()) {
             leaves += 1;
-            leaf_sizes[(n.count as usize).min(BUCKETS - 1)] += 1;
+            sizes.add(n.count as usize);
         }
-        while leaf_sizes.last() == Some(&0) {
-            leaf_sizes.pop();
-        }
+        let leaf_sizes = sizes.finish();
         let shrink = self.params.shrink.map_or("off".to_string(), |f| f.to_string());
         AccelStats {
             nodes: self.nodes.len(),

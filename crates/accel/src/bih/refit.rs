@@ -27,7 +27,7 @@ impl Bih {
         self.tris.par_iter_mut().zip(ids.par_iter()).for_each(|(t, &id)| *t = mesh.triangle(id as usize));
         self.bounds = refit_subtree(&mut self.nodes, 0, &self.tris);
         #[cfg(debug_assertions)]
-        if let Err(e) = self.validate() {
+        if let Err(e) = self.check_invariants() {
             panic!("refit produced an invalid BIH: {e}");
         }
         Ok(())

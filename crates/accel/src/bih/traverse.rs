@@ -122,13 +122,7 @@ impl Bih {
         self.walk(&r, c, |first, count| {
             let tris = &self.tris[first..first + count];
             let ids = &self.prim_ids[first..first + count];
-            for (tri, &prim) in tris.iter().zip(ids) {
-                if let Some((t, u, v)) = tri.intersect(&r, best.t.min(ray.tmax)) {
-                    if Hit::is_closer(t, prim, &best) {
-                        best = Hit { t, u, v, prim };
-                    }
-                }
-            }
+            best.closest_of(&r, tris.iter().zip(ids.iter().copied()));
             Some(best.t)
         });
         best

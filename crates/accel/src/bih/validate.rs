@@ -21,7 +21,7 @@ impl Bih {
     /// slots exactly once and in order, no empty leaf, every triangle inside its parents'
     /// clip planes, the scene box holding everything, depth within the traversal stack,
     /// and `prim_ids` a permutation of the mesh's triangles.
-    pub fn validate(&self) -> Result<(), InvalidBih> {
+    pub(crate) fn check_invariants(&self) -> Result<(), InvalidBih> {
         let err = |node: usize, what: String| Err(InvalidBih { node, what });
         if self.nodes.is_empty() {
             return err(0, "no nodes".into());

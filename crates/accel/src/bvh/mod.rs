@@ -19,6 +19,7 @@ pub use node::BvhNode;
 pub use params::BvhParams;
 pub use validate::{BvhStats, InvalidBvh};
 
+use crate::InvalidStructure;
 use crate::{Accel, AccelStats, BuildError, NoCount, TraversalCounts};
 use dynray_geom::{Hit, Ray, Triangle, TriangleMesh};
 
@@ -44,7 +45,7 @@ impl Bvh {
         let built = build::build(mesh, params)?;
         let bvh = Self { nodes: built.nodes, tris: built.tris, ids: built.ids, params: *params, depth: built.depth };
         #[cfg(debug_assertions)]
-        if let Err(e) = bvh.validate(mesh) {
+        if let Err(e) = bvh.check_invariants(mesh) {
             panic!("the builder produced an invalid BVH: {e}");
         }
         Ok(bvh)
@@ -72,6 +73,12 @@ impl Bvh {
 }
 
 impl Accel for Bvh {
+    fn validate(&self, mesh: &TriangleMesh) -> Result<AccelStats, InvalidStructure> {
+        let invalid = |e| InvalidStructure::new(self.name(), e);
+        self.check_invariants(mesh).map_err(invalid)?;
+        Ok(self.stats())
+    }
+
     fn name(&self) -> &'static str {
         "bvh"
     }

@@ -32,7 +32,7 @@ impl Bvh {
             self.nodes[i].set_bounds(&b);
         }
         #[cfg(debug_assertions)]
-        if let Err(e) = self.validate(mesh) {
+        if let Err(e) = self.check_invariants(mesh) {
             panic!("refit produced an invalid BVH: {e}");
         }
         Ok(())

@@ -63,7 +63,7 @@ fn validate_catches_a_child_outside_its_parent() {
     let (m, mut b) = built(64);
     let l = b.nodes[0].index as usize;
     b.nodes[l].max[1] += 10.0;
-    let e = b.validate(&m).unwrap_err();
+    let e = b.check_invariants(&m).unwrap_err();
     assert!(e.what.contains("outside"), "{e}");
 }
 
@@ -77,7 +77,7 @@ fn validate_catches_a_triangle_in_two_leaves() {
     // but the double reference must be what is reported when boxes are widened.
     b.nodes[leaves[1]].min = [-1e9; 3];
     b.nodes[leaves[1]].max = [1e9; 3];
-    let e = b.validate(&m).unwrap_err();
+    let e = b.check_invariants(&m).unwrap_err();
     assert!(e.what.contains("two leaves") || e.what.contains("outside"), "{e}");
 }
 
@@ -86,9 +86,9 @@ fn validate_catches_a_bad_child_index_and_a_wrong_copy() {
     let (m, mut b) = built(64);
     let mut c = b.clone();
     c.nodes[0].index = c.nodes.len() as u32;
-    assert!(c.validate(&m).unwrap_err().what.contains("out of range"));
+    assert!(c.check_invariants(&m).unwrap_err().what.contains("out of range"));
     b.tris[3].p0.x += 0.5;
-    let e = b.validate(&m).unwrap_err();
+    let e = b.check_invariants(&m).unwrap_err();
     assert!(e.what.contains("not a copy") || e.what.contains("sticks out"), "{e}");
 }
 
@@ -96,7 +96,7 @@ fn validate_catches_a_bad_child_index_and_a_wrong_copy() {
 fn validate_catches_repeated_ids() {
     let (m, mut b) = built(16);
     b.ids[1] = b.ids[0];
-    assert!(b.validate(&m).unwrap_err().what.contains("repeated"));
+    assert!(b.check_invariants(&m).unwrap_err().what.contains("repeated"));
 }
 
 #[test]

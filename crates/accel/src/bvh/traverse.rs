@@ -5,9 +5,9 @@ use crate::Counter;
 use dynray_geom::{Hit, PreparedRay, Ray};
 use glam::{Vec3A, Vec4};
 
-/// `dynray_geom`'s slab widening (its `SLAB_MARGIN`, private there). The test
-/// `box_test_matches_aabb_clip` fails if the two ever drift apart.
-const SLAB_MARGIN: f32 = 1.0e-6;
+/// The same slab widening as [`dynray_geom::Aabb::clip`] (the test
+/// `box_test_matches_aabb_clip` checks both box tests agree).
+use dynray_geom::SLAB_MARGIN;
 
 /// Entries of the traversal stack. Near-first descent pushes at most one node per level,
 /// so a tree of depth `d` needs `d` entries; builds never exceed
@@ -107,14 +107,11 @@ impl Bvh {
             if node.is_leaf() {
                 let (first, count) = (node.index as usize, node.count as usize);
                 c.triangles(count as u32);
-                for i in first..first + count {
-                    if let Some((t, u, v)) = self.tris[i].intersect(&pr, best.t.min(tmax)) {
-                        let prim = self.ids[i];
-                        if Hit::is_closer(t, prim, &best) {
-                            best = Hit { t, u, v, prim };
-                        }
-                    }
-                }
+                // `tmax` is `ray.tmax`, the helper's own bound.
+                best.closest_of(
+                    &pr,
+                    self.tris[first..first + count].iter().zip(self.ids[first..first + count].iter().copied()),
+                );
             } else {
                 let l = node.index as usize;
                 // Cull only boxes entered after the best hit: `limit` = best.t keeps a box

@@ -22,22 +22,19 @@ pub struct BvhStats {
     pub leaves: usize,
     /// Depth of the deepest leaf (root = 0).
     pub max_depth: u32,
-    /// `leaf_sizes[k]` = leaves holding `k` triangles; the last bucket holds larger ones.
+    /// As [`crate::AccelStats::leaf_sizes`] (built by [`crate::LeafSizes`]).
     pub leaf_sizes: Vec<usize>,
     /// SAH cost (Eq. 2.1 summed over the tree with the build's `K_T`, `K_I`), relative to
     /// the root's area; `None` when the root box has no area.
     pub sah_cost: Option<f64>,
 }
 
-/// Leaf-size histogram buckets; the last one counts leaves of this size or more.
-const HISTOGRAM_BUCKETS: usize = 33;
-
 impl Bvh {
     /// Checks every structural invariant (children inside parents and after them in the
     /// array, every node reached once, every leaf-order triangle referenced exactly once,
     /// ids a permutation, indices in range, depth within the traversal stack) and that the
     /// leaf triangles are exact copies of `mesh`'s. Returns the tree's shape.
-    pub fn validate(&self, mesh: &TriangleMesh) -> Result<BvhStats, InvalidBvh> {
+    pub(crate) fn check_invariants(&self, mesh: &TriangleMesh) -> Result<BvhStats, InvalidBvh> {
         let stats = self.check_shape()?;
         if mesh.triangle_count() != self.tris.len() {
             return Err(bad(0, format!("mesh has {} triangles, tree {}", mesh.triangle_count(), self.tris.len())));
@@ -65,7 +62,8 @@ impl Bvh {
         let root_area = nodes[0].bounds().surface_area() as f64;
         let (kt, ki) = (self.params.traversal_cost as f64, self.params.intersection_cost as f64);
         let mut sah = 0.0f64;
-        let mut stats = BvhStats { leaf_sizes: vec![0; HISTOGRAM_BUCKETS], ..Default::default() };
+        let mut stats = BvhStats::default();
+        let mut sizes = crate::LeafSizes::new();
         let mut covered = vec![false; n];
         let mut reached = vec![false; nodes.len()];
         reached[0] = true;
@@ -93,7 +91,7 @@ impl Bvh {
                     }
                 }
                 stats.leaves += 1;
-                stats.leaf_sizes[count.min(HISTOGRAM_BUCKETS - 1)] += 1;
+                sizes.add(count);
                 sah += ki * count as f64 * area;
             } else {
                 let l = node.index as usize;
@@ -130,8 +128,7 @@ impl Bvh {
                 format!("recorded depth {} but the deepest leaf is at {}", self.depth, stats.max_depth),
             ));
         }
-        let last = stats.leaf_sizes.iter().rposition(|&c| c > 0).unwrap_or(0);
-        stats.leaf_sizes.truncate(last + 1);
+        stats.leaf_sizes = sizes.finish();
         stats.sah_cost = (root_area > 0.0).then(|| sah / root_area);
         Ok(stats)
     }

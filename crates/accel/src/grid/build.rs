@@ -7,7 +7,6 @@
 //! stable counting sort turns into per-cell lists sorted by triangle index. The output
 //! is therefore the same whatever the number of threads.
 
-use super::overlap::triangle_overlaps_box;
 use super::params::GridParams;
 use super::shape::GridShape;
 use crate::BuildError;
@@ -54,7 +53,7 @@ fn cells_of<'a>(shape: &'a GridShape, tri: &'a Triangle, exact: bool) -> impl It
                 let c = [x, y, z];
                 let keep = single || !exact || {
                     let (centre, half) = shape.cell_box(c);
-                    triangle_overlaps_box(tri, centre, half)
+                    tri.overlaps_box(centre, half)
                 };
                 keep.then(|| shape.index(c) as u32)
             })

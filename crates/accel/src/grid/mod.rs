@@ -17,11 +17,10 @@
 //! so the default is 2 (pbrt-v1 used 3). The exact insertion test saves 20–30 % of
 //! references and 15–20 % of triangle tests for a 2–3× slower build.
 //!
-//! Files: `params.rs`, `shape.rs` (cell arithmetic), `overlap.rs` (triangle–box test),
+//! Files: `params.rs`, `shape.rs` (cell arithmetic), `build.rs` (cells by `dynray_geom::triangle_box_overlap`),
 //! `build.rs`, `traverse.rs`, `validate.rs`.
 
 mod build;
-mod overlap;
 mod params;
 mod shape;
 mod traverse;
@@ -31,6 +30,7 @@ pub use params::GridParams;
 pub use shape::{GridShape, INSERT_SLACK};
 pub use validate::InvalidGrid;
 
+use crate::InvalidStructure;
 use crate::StructureParams;
 use crate::{Accel, AccelStats, BuildError, NoCount, TraversalCounts};
 use dynray_geom::{Aabb, Hit, Ray, Triangle, TriangleMesh};
@@ -58,7 +58,7 @@ impl Grid {
         let built = build::build(&tris, bounds, params)?;
         let grid = Self { shape: built.shape, offsets: built.offsets, refs: built.refs, tris, params: *params };
         #[cfg(debug_assertions)]
-        if let Err(e) = grid.validate() {
+        if let Err(e) = grid.check_invariants() {
             panic!("grid builder produced an invalid grid: {e}");
         }
         Ok(grid)
@@ -82,6 +82,12 @@ impl Grid {
 }
 
 impl Accel for Grid {
+    fn validate(&self, _mesh: &TriangleMesh) -> Result<AccelStats, InvalidStructure> {
+        let invalid = |e| InvalidStructure::new(self.name(), e);
+        self.check_invariants().map_err(invalid)?;
+        Ok(self.stats())
+    }
+
     fn name(&self) -> &'static str {
         "grid"
     }
@@ -106,15 +112,8 @@ impl Accel for Grid {
     }
 
     fn stats(&self) -> AccelStats {
-        const BUCKETS: usize = 33;
         let cells = self.shape.cells();
-        let mut leaf_sizes = vec![0usize; BUCKETS];
-        for c in 0..cells {
-            leaf_sizes[self.cell_refs(c).len().min(BUCKETS - 1)] += 1;
-        }
-        while leaf_sizes.last() == Some(&0) {
-            leaf_sizes.pop();
-        }
+        let leaf_sizes = (0..cells).map(|c| self.cell_refs(c).len()).collect::<crate::LeafSizes>().finish();
         let [x, y, z] = self.shape.res;
         AccelStats {
             nodes: cells,

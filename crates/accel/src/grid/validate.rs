@@ -12,7 +12,7 @@ impl Grid {
     /// references), that references name existing triangles in ascending order within a
     /// cell, that every triangle is in at least one cell, and that every triangle is in
     /// the cell holding its centroid (a cheap spot check of the insertion).
-    pub fn validate(&self) -> Result<(), InvalidGrid> {
+    pub(crate) fn check_invariants(&self) -> Result<(), InvalidGrid> {
         let cells = self.shape.cells();
         let err = |s: String| Err(InvalidGrid(s));
         if self.offsets.len() != cells + 1 || self.offsets[0] != 0 {

@@ -8,6 +8,7 @@ use super::ropes::build_ropes;
 use super::traverse::down;
 use super::traverse_ropes::walk;
 use super::tree::Tree;
+use crate::InvalidStructure;
 use crate::{Accel, AccelStats, BuildError, Counter, NoCount, TraversalCounts};
 use dynray_geom::{Hit, PreparedRay, Ray, TriangleMesh};
 
@@ -36,15 +37,8 @@ impl KdTreeRopes {
     }
 
     fn check(&self) -> Result<(), String> {
-        self.tree.validate()?;
-        self.tree.validate_ropes(&self.ropes)
-    }
-
-    /// Checks the tree's invariants and every rope (it crosses its leaf's face and lands
-    /// on the deepest node covering it), and returns the figures.
-    pub fn validate(&self) -> Result<AccelStats, String> {
-        self.check()?;
-        Ok(self.stats())
+        self.tree.check_invariants()?;
+        self.tree.check_ropes(&self.ropes)
     }
 
     /// Parameters the tree was built with.
@@ -66,13 +60,7 @@ impl KdTreeRopes {
     /// conservative exit, so no later leaf can hold a closer or equal one.
     #[inline(always)]
     fn test_leaf(&self, r: &PreparedRay, prims: &[u32], t_exit: f32, best: &mut Hit) -> bool {
-        for &id in prims {
-            if let Some((t, u, v)) = self.tree.tris[id as usize].intersect(r, best.t.min(r.ray.tmax)) {
-                if Hit::is_closer(t, id, best) {
-                    *best = Hit { t, u, v, prim: id };
-                }
-            }
-        }
+        best.closest_of(r, prims.iter().map(|&id| (&self.tree.tris[id as usize], id)));
         best.t < down(t_exit)
     }
 
@@ -92,6 +80,12 @@ impl KdTreeRopes {
 }
 
 impl Accel for KdTreeRopes {
+    fn validate(&self, _mesh: &TriangleMesh) -> Result<AccelStats, InvalidStructure> {
+        let invalid = |e| InvalidStructure::new(self.name(), e);
+        self.check().map_err(invalid)?;
+        Ok(self.stats())
+    }
+
     fn name(&self) -> &'static str {
         "kdtree-ropes"
     }

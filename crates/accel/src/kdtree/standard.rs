@@ -4,6 +4,7 @@ use super::build::build;
 use super::node::KdNode;
 use super::params::KdTreeParams;
 use super::tree::Tree;
+use crate::InvalidStructure;
 use crate::{Accel, AccelStats, BuildError, Counter, NoCount, TraversalCounts};
 use dynray_geom::{Hit, PreparedRay, Ray, TriangleMesh};
 
@@ -23,15 +24,8 @@ impl KdTree {
     pub fn build_with(mesh: &TriangleMesh, params: &KdTreeParams) -> Result<Self, BuildError> {
         let tree = build(mesh, params)?;
         #[cfg(debug_assertions)]
-        tree.validate().map_err(|e| BuildError::Limit(format!("kd-tree failed validation: {e}")))?;
+        tree.check_invariants().map_err(|e| BuildError::Limit(format!("kd-tree failed validation: {e}")))?;
         Ok(Self { tree })
-    }
-
-    /// Checks the tree's invariants (children inside parents, every triangle reachable,
-    /// indices in range, depth within the traversal stack) and returns its figures.
-    pub fn validate(&self) -> Result<AccelStats, String> {
-        self.tree.validate()?;
-        Ok(self.stats())
     }
 
     /// Parameters the tree was built with.
@@ -54,6 +48,12 @@ impl KdTree {
 }
 
 impl Accel for KdTree {
+    fn validate(&self, _mesh: &TriangleMesh) -> Result<AccelStats, InvalidStructure> {
+        let invalid = |e| InvalidStructure::new(self.name(), e);
+        self.tree.check_invariants().map_err(invalid)?;
+        Ok(self.stats())
+    }
+
     fn name(&self) -> &'static str {
         "kdtree"
     }

@@ -89,13 +89,7 @@ impl Tree {
             c.node();
             let prims = self.leaf_prims(n.leaf_index());
             c.triangles(prims.len() as u32);
-            for &id in prims {
-                if let Some((t, u, v)) = self.tris[id as usize].intersect(r, best.t.min(r.ray.tmax)) {
-                    if Hit::is_closer(t, id, &best) {
-                        best = Hit { t, u, v, prim: id };
-                    }
-                }
-            }
+            best.closest_of(r, prims.iter().map(|&id| (&self.tris[id as usize], id)));
             // Next deferred node that the ray can still meet before (or at) the best hit.
             loop {
                 if sp == 0 {

@@ -6,13 +6,10 @@ use super::tree::Tree;
 use crate::AccelStats;
 use dynray_geom::Aabb;
 
-/// Largest leaf size with its own bucket in `AccelStats::leaf_sizes`.
-const LEAF_BUCKETS: usize = 16;
-
 impl Tree {
     /// Checks every invariant the traversals rely on; the message names the first broken
     /// one with its values.
-    pub fn validate(&self) -> Result<(), String> {
+    pub(crate) fn check_invariants(&self) -> Result<(), String> {
         let n_nodes = self.nodes.len();
         let n_leaves = self.leaf_count();
         if n_nodes == 0 {
@@ -95,7 +92,7 @@ impl Tree {
 
     /// Checks that every rope crosses exactly its leaf's face and lands on the deepest
     /// node covering it, and that only faces on the root's boundary have none.
-    pub fn validate_ropes(&self, ropes: &[LeafRopes]) -> Result<(), String> {
+    pub(crate) fn check_ropes(&self, ropes: &[LeafRopes]) -> Result<(), String> {
         if ropes.len() != self.leaf_count() {
             return Err(format!("{} rope records for {} leaves", ropes.len(), self.leaf_count()));
         }
@@ -139,13 +136,14 @@ impl Tree {
 
     /// Shape figures; `extra_bytes` is what a variant adds (ropes).
     pub fn stats(&self, extra_bytes: usize) -> AccelStats {
-        let mut leaf_sizes = vec![0usize; LEAF_BUCKETS + 1];
+        let mut sizes = crate::LeafSizes::new();
         let mut empty = 0;
         for l in 0..self.leaf_count() as u32 {
             let k = self.leaf_prims(l).len();
-            leaf_sizes[k.min(LEAF_BUCKETS)] += 1;
+            sizes.add(k);
             empty += (k == 0) as usize;
         }
+        let leaf_sizes = sizes.finish();
         let root_area = self.bounds.surface_area() as f64;
         let p = &self.params;
         let mut sah = 0.0f64;

@@ -5,9 +5,9 @@
 
 use super::node::{InnerNode, LeafBox, LEAF_BIT, LOCATE};
 use super::params::OctreeParams;
-use super::sat::tri_box_overlap;
 use super::tables::{in_face_axes, neighbor_slot, FACE_AXIS, FACE_POSITIVE};
 use crate::BuildError;
+use dynray_geom::triangle_box_overlap;
 use dynray_geom::{Aabb, Triangle, TriangleMesh};
 use glam::Vec3;
 use rayon::prelude::*;
@@ -114,7 +114,7 @@ impl Builder<'_> {
                 let ok = |s: (u32, u32), b: usize| if b == 0 { s.0 == 1 } else { s.1 == 1 };
                 if ok(sx, bits[0]) && ok(sy, bits[1]) && ok(sz, bits[2]) {
                     let (_, c, h) = boxes[o];
-                    if tri_box_overlap(c, h, &self.verts[t as usize]) {
+                    if triangle_box_overlap(&self.verts[t as usize], c, h) {
                         out[o].push(t);
                     }
                 }

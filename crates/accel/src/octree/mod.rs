@@ -27,14 +27,13 @@
 //! - Both traversals share one build; `memory_bytes` of either counts every array.
 //!
 //! Files: `params.rs`, `node.rs` (encodings), `tables.rs` (the seed's lookup tables and
-//! their convention), `sat.rs` (triangle–box overlap), `build.rs`, `walk.rs` (the seed's
+//! their convention), `build.rs`, `walk.rs` (the seed's
 //! traversal), `descent.rs` (Revelles et al. 2000), `validate.rs`.
 
 mod build;
 mod descent;
 mod node;
 mod params;
-mod sat;
 mod tables;
 mod validate;
 mod walk;
@@ -44,6 +43,7 @@ pub use params::{OctreeParams, MAX_DEPTH_LIMIT};
 pub use tables::{FACE_TO_NEIGHBOR_INDEX, OUT_FACES_LOOKUP};
 pub use validate::InvalidOctree;
 
+use crate::InvalidStructure;
 use crate::StructureParams;
 use crate::{Accel, AccelStats, BuildError, NoCount, TraversalCounts};
 use build::Frame;
@@ -101,7 +101,7 @@ impl Octree {
             mesh_triangles: mesh.triangle_count(),
         };
         #[cfg(debug_assertions)]
-        if let Err(e) = oct.validate() {
+        if let Err(e) = oct.check_invariants() {
             panic!("octree builder produced an invalid tree: {e}");
         }
         Ok(oct)
@@ -154,12 +154,12 @@ impl Octree {
     }
 
     fn stats_named(&self) -> AccelStats {
-        let mut leaf_sizes = vec![0usize; 17];
+        let mut sizes = crate::LeafSizes::new();
         let mut links = 0usize;
         let mut addr = 0;
         while addr < self.records.len() {
             let n = self.records[addr] as usize;
-            leaf_sizes[n.min(16)] += 1;
+            sizes.add(n);
             let nc = self.records[addr + 3];
             let l = node::links_before(nc, 6);
             links += l;
@@ -179,7 +179,7 @@ impl Octree {
             leaves: self.boxes.len(),
             max_depth: self.fine_depth,
             primitive_refs: self.tris.len(),
-            leaf_sizes,
+            leaf_sizes: sizes.finish(),
             sah_cost: None,
             memory_bytes: self.bytes(),
             extra,
@@ -197,6 +197,11 @@ impl Octree {
 }
 
 impl Accel for Octree {
+    fn validate(&self, _mesh: &TriangleMesh) -> Result<AccelStats, InvalidStructure> {
+        self.check_invariants().map_err(|e| InvalidStructure::new(self.name(), e))?;
+        Ok(self.stats())
+    }
+
     fn name(&self) -> &'static str {
         "octree"
     }
@@ -240,6 +245,11 @@ impl OctreeDescent {
 }
 
 impl Accel for OctreeDescent {
+    fn validate(&self, _mesh: &TriangleMesh) -> Result<AccelStats, InvalidStructure> {
+        self.0.check_invariants().map_err(|e| InvalidStructure::new(self.name(), e))?;
+        Ok(self.stats())
+    }
+
     fn name(&self) -> &'static str {
         "octree-descent"
     }

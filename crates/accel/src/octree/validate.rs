@@ -26,7 +26,7 @@ impl Octree {
     /// or 4 neighbours and adjacent leaves differ by at most one level; the internal nodes
     /// reach every leaf exactly once, at its own cell, within [`MAX_DEPTH_LIMIT`]; every
     /// mesh triangle is referenced; every cube-map texel names the boundary leaf under it.
-    pub fn validate(&self) -> Result<(), InvalidOctree> {
+    pub(crate) fn check_invariants(&self) -> Result<(), InvalidOctree> {
         let err = |leaf: usize, what: String| Err(InvalidOctree { leaf, what });
         // Record starts, in leaf order.
         let mut addr_of = Vec::with_capacity(self.boxes.len());

@@ -78,7 +78,7 @@ pub fn run(
         let mut builds = Vec::new();
         let mut accel = accel_v
             .build(&frame.mesh, Some(frame.camera.position))
-            .with_context(|| format!("{}: cannot build {}", sc.name, accel_v.to_string()))?;
+            .with_context(|| format!("{}: cannot build {}", sc.name, accel_v))?;
         for _ in 0..config.repeat.max(1) {
             drop(accel);
             let t = Instant::now();
