@@ -10,7 +10,7 @@
 
 mod support;
 
-use dynray_accel::{Accel, AccelKind, AccelSpec};
+use dynray_accel::{Accel, AccelKind, AccelSpec, BuildError};
 use dynray_geom::{Ray, TriangleMesh, Vec3};
 use support::*;
 
@@ -71,6 +71,32 @@ oracle_tests!(
     apit: Apit,
     abuffer: ABuffer,
 );
+
+/// Every structure's `update` (a refit where it has one, else a rebuild) follows a mesh
+/// whose vertices move, staying exact on the moved mesh, and refuses a mesh with other
+/// triangles.
+#[test]
+fn update_follows_moved_vertices_for_every_kind_and_rejects_new_topology() {
+    let mesh = bunny();
+    let mut all: Vec<(AccelKind, Box<dyn Accel>)> =
+        AccelKind::ALL.iter().map(|&k| (k, build(&AccelSpec::new(k), &mesh, "bunny"))).collect();
+    for (step, amp) in [(0u64, 0.01f32), (1, 0.2)] {
+        let moved = wave(&mesh, amp, step as f32);
+        let mut rays = random_rays(&moved, 4_000, 500 + step);
+        rays.extend(adversarial_rays(&moved, 1_000, 600 + step));
+        for (kind, a) in &mut all {
+            a.update(&moved).unwrap_or_else(|e| panic!("{kind} update: {e}"));
+            a.validate(&moved).unwrap_or_else(|e| panic!("{kind} after update: {e}"));
+            assert_matches_oracle(a.as_ref(), &moved, &rays, &format!("bunny wave {amp} ({kind} update)"));
+        }
+    }
+    let mut other = mesh.clone();
+    other.indices.pop();
+    for (kind, a) in &mut all {
+        let e = a.update(&other).err();
+        assert!(matches!(e, Some(BuildError::TopologyChanged { .. })), "{kind}: {e:?}");
+    }
+}
 
 /// `update_for_eye` moves the A-PIT's and the A-buffer's cube to the new eye (seed 004
 /// centres it on the observer every frame) and stays exact, `observer=center` keeps the

@@ -246,3 +246,17 @@ pub fn dragon_rays(mesh: &TriangleMesh) -> Vec<Ray> {
     r.extend(adversarial_rays(mesh, 5_000, 4));
     r
 }
+
+/// `mesh` with every vertex moved by a travelling wave of `amp` × the model's largest
+/// extent (in y, varying over x and z with `phase`), as an animation frame would: same
+/// triangles, same order, new positions.
+pub fn wave(mesh: &TriangleMesh, amp: f32, phase: f32) -> TriangleMesh {
+    let b = mesh.bounds();
+    let k = std::f32::consts::TAU * 3.0 / b.extent().max_element();
+    let a = amp * b.extent().max_element();
+    let mut m = mesh.clone();
+    for p in &mut m.positions {
+        p[1] += a * (k * p[0] + phase).sin() * (k * p[2] - phase).cos();
+    }
+    m
+}
