@@ -18,7 +18,7 @@ fn scene(rel: &str) -> TriangleMesh {
         .map(PathBuf::from)
         .unwrap_or_else(|_| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/scenes"));
     let p = dir.join(rel);
-    dynray_scene::ply::load(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+    dynray_scene::formats::ply::load(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
 }
 
 /// One ray per pixel centre through a pinhole camera framing the mesh.

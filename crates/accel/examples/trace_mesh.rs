@@ -21,7 +21,7 @@ struct Summary {
 fn load(path: Option<&Path>) -> (String, TriangleMesh) {
     let default = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/scenes/bunny/bun_zipper.ply");
     let path = path.map(Path::to_path_buf).unwrap_or(default);
-    match dynray_scene::ply::load(&path) {
+    match dynray_scene::formats::ply::load(&path) {
         Ok(mesh) => (path.display().to_string(), mesh),
         Err(e) => {
             eprintln!("{}: {e}; using an icosphere", path.display());

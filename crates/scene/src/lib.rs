@@ -21,9 +21,3 @@ pub use load::{load_file, load_file_report, FileFormat, LoadReport, Warning};
 pub use model::{Camera, Color, Environment, Finish, Light, LightKind, Material, Projection, Scene, Settings};
 pub use scn::{load_scn, load_scn_report, parse_scn_str};
 pub use transform::Transform;
-
-/// The PLY reader under its old path. The canonical path is [`formats::ply`]; this stays
-/// because crates/accel's tests and benches (worked on in another branch) still name
-/// `dynray_scene::ply`. Remove it once they move.
-#[doc(hidden)]
-pub use formats::ply;

@@ -22,7 +22,8 @@ pub fn scenes_dir() -> PathBuf {
 /// (CI always has it: a missing model is a broken setup, not a reason to skip).
 pub fn load(rel: &str) -> TriangleMesh {
     let p = scenes_dir().join(rel);
-    dynray_scene::ply::load(&p).unwrap_or_else(|e| panic!("test model missing or unreadable ({e}); set DYNRAY_SCENES"))
+    dynray_scene::formats::ply::load(&p)
+        .unwrap_or_else(|e| panic!("test model missing or unreadable ({e}); set DYNRAY_SCENES"))
 }
 
 pub fn bunny() -> TriangleMesh {
