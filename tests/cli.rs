@@ -70,13 +70,13 @@ fn bunny_rays() -> Vec<[f32; 8]> {
 }
 
 #[test]
-fn trace_rays_matches_between_bvh_and_brute_and_writes_npz() {
+fn trace_rays_matches_between_structures_and_brute_and_writes_npz() {
     let dir = tempfile::tempdir().unwrap();
     let rays = dir.path().join("rays.npy");
     write_npy(&rays, &bunny_rays());
     let mut results = Vec::new();
-    for accel in ["brute", "bvh"] {
-        let out = dir.path().join(format!("{accel}.npz"));
+    for accel in ["brute", "bvh", "bih:max_prims=5", "octree:high_quality"] {
+        let out = dir.path().join(format!("{}.npz", accel.replace(':', "_")));
         ok(dynray(&[
             "trace-rays",
             &bunny(),
@@ -99,7 +99,9 @@ fn trace_rays_matches_between_bvh_and_brute_and_writes_npz() {
         assert!(prim.iter().all(|&p| (-1..69_451).contains(&p)));
         results.push((t.iter().map(|x| x.to_bits()).collect::<Vec<_>>(), prim));
     }
-    assert_eq!(results[0], results[1], "bvh and brute disagree");
+    for (i, name) in ["bvh", "bih:max_prims=5", "octree:high_quality"].iter().enumerate() {
+        assert_eq!(results[0], results[i + 1], "{name} and brute disagree");
+    }
 }
 
 #[test]
