@@ -3,7 +3,7 @@
 use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::{Args, Parser, Subcommand};
 use dynray_accel::AccelSpec;
-use dynray_bench::{Preset, RayKind};
+use dynray_bench::{BenchConfig, Preset, RayKind};
 use dynray_render::{Aov, IntegratorKind};
 use std::path::PathBuf;
 
@@ -41,10 +41,10 @@ pub struct RenderArgs {
     #[arg(short, long, default_value = "dynray.png")]
     pub output: PathBuf,
     /// Image width in pixels (overrides the scene's settings).
-    #[arg(long)]
+    #[arg(long, value_parser = edge_parser())]
     pub width: Option<u32>,
     /// Image height in pixels (overrides the scene's settings).
-    #[arg(long)]
+    #[arg(long, value_parser = edge_parser())]
     pub height: Option<u32>,
     /// Maximum ray level, 1 = primary rays only (overrides `max_recursion_level`).
     #[arg(long)]
@@ -115,25 +115,25 @@ pub struct InfoArgs {
 /// `dynray bench` (docs/bench.md). Threads come from the global `--threads`.
 #[derive(Args, Debug)]
 pub struct BenchArgs {
-    /// Comma-separated scene names (bunny, dragon, dragon-res2..4, cornell-box, duck,
-    /// cesium-man) or mesh/scene files.
-    #[arg(long, value_name = "LIST")]
+    /// Comma-separated scene names or mesh/scene files.
+    #[arg(long, value_name = "LIST", help = scenes_help())]
     pub scenes: Option<String>,
     /// Comma-separated structures, each optionally with parameters:
     /// `bvh,bih:max_prims=5,shrink=off` (default: every registered structure but brute).
-    #[arg(long, value_name = "LIST")]
+    #[arg(long, value_name = "LIST", value_parser = accels_parser)]
     pub accels: Option<String>,
     /// Comma-separated ray kinds (default: every kind).
     #[arg(long, value_name = "LIST", value_delimiter = ',', value_parser = ray_kind_parser())]
     pub rays: Option<Vec<RayKind>>,
-    /// Image width of the ray sets and renders (default 640; --quick 128).
-    #[arg(long)]
+    /// Image width of the ray sets and renders.
+    #[arg(long, value_parser = edge_parser(), help = defaults_help("Image width of the ray sets and renders", |c| c.width))]
     pub width: Option<u32>,
-    /// Image height (default 480; --quick 96).
-    #[arg(long)]
+    /// Image height.
+    #[arg(long, value_parser = edge_parser(), help = defaults_help("Image height", |c| c.height))]
     pub height: Option<u32>,
-    /// Timed repetitions after one warm-up; medians are reported (default 5; --quick 1).
-    #[arg(long)]
+    /// Timed repetitions after one warm-up; medians are reported.
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..).map(|n| n as usize),
+        help = defaults_help("Timed repetitions after one warm-up; medians are reported", |c| c.repeat))]
     pub repeat: Option<usize>,
     /// Which experiment to run (default: standard); `all` runs every one.
     #[arg(long, value_name = "NAME", value_parser = preset_parser())]
@@ -176,6 +176,31 @@ fn preset_parser() -> PossibleValuesParser {
 
 /// `--accel NAME[:key=value,…]`, keys and values checked at parse time (clap then exits
 /// with status 2 and names the flag).
+/// Image edges accepted on the command line: 1 to the renderer's limit (a usage error,
+/// status 2, outside it).
+fn edge_parser() -> impl TypedValueParser<Value = u32> {
+    clap::value_parser!(u32).range(1..=dynray_render::MAX_IMAGE_EDGE as i64)
+}
+
+/// `--scenes` help listing the bench's named models, so it follows the registry.
+fn scenes_help() -> String {
+    let names: Vec<&str> =
+        dynray_bench::scenes::KNOWN_SCENES.iter().map(|(n, _)| *n).chain([dynray_bench::scenes::DEMO]).collect();
+    format!("Comma-separated scene names ({}) or mesh/scene files", names.join(", "))
+}
+
+/// A bench option's help with its defaults read from `BenchConfig`, for a full and a
+/// `--quick` run, so the text cannot drift from what runs.
+fn defaults_help<T: std::fmt::Display>(what: &str, field: fn(&BenchConfig) -> T) -> String {
+    format!("{what} (default {}; --quick {})", field(&BenchConfig::new(false)), field(&BenchConfig::new(true)))
+}
+
+/// `--accels`, checked when parsed (an unknown structure or key is a usage error) and
+/// kept as text: the bench parses it again into its variants.
+fn accels_parser(s: &str) -> Result<String, String> {
+    dynray_bench::parse_accels(s).map(|_| s.to_string()).map_err(|e| format!("{e:#}"))
+}
+
 fn parse_accel(s: &str) -> Result<AccelSpec, String> {
     s.parse().map_err(|e: dynray_accel::BuildError| e.to_string())
 }

@@ -266,3 +266,23 @@ fn accel_parameters_reach_the_structure_and_bad_keys_are_usage_errors() {
     let e = stderr(&o);
     assert!(e.contains("--accel") && e.contains("bih: unknown parameter `leaf` (known: preset, max_prims"), "{e}");
 }
+
+#[test]
+fn bad_flag_values_are_usage_errors_and_help_shows_the_real_defaults() {
+    for args in [
+        &["bench", "--accels", "foo"][..],
+        &["bench", "--repeat", "0"],
+        &["bench", "--width", "0"],
+        &["render", "--width", "0"],
+        &["render", "--height", "16385"],
+    ] {
+        let o = dynray(args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+    }
+    let help = String::from_utf8_lossy(&dynray(&["bench", "--help"]).stdout).into_owned();
+    let config = dynray_bench::BenchConfig::new(false);
+    assert!(help.contains(&format!("(default {}; --quick 1)", config.repeat)), "{help}");
+    for name in dynray_bench::scenes::KNOWN_SCENES.iter().map(|(n, _)| *n).chain(["demo"]) {
+        assert!(help.contains(name), "--scenes help omits {name}: {help}");
+    }
+}

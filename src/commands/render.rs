@@ -7,9 +7,6 @@ use dynray_render::{render, render_aov, write_aov, write_image, OutputFormat, Re
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::time::{Duration, Instant};
 
-/// Largest image edge accepted, so a typo cannot ask for terabytes of film.
-const MAX_EDGE: u32 = 1 << 15;
-
 pub fn run(a: RenderArgs) -> Result<()> {
     // Check the output name before any work, so a typo fails at once.
     match (OutputFormat::from_path(&a.output), a.aov) {
@@ -40,9 +37,11 @@ pub fn run(a: RenderArgs) -> Result<()> {
         }
         s.min_weight = m;
     }
-    for (flag, v) in [("--width", s.width), ("--height", s.height)] {
-        if v == 0 || v > MAX_EDGE {
-            bail!("{flag} must be between 1 and {MAX_EDGE}, got {v}");
+    // The flags are range-checked by clap; a scene file's settings are checked here.
+    let max = dynray_render::MAX_IMAGE_EDGE;
+    for (what, v) in [("width", s.width), ("height", s.height)] {
+        if v == 0 || v > max {
+            bail!("{label}: image {what} {v} is outside 1..={max} (set --{what} to override the scene's settings)");
         }
     }
 

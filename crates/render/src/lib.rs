@@ -32,3 +32,7 @@ pub use render::{render, render_aov, render_with, RenderOptions, RenderStats};
 pub use sampler::Sampler;
 pub use surface::{GeometryRef, SurfaceHit};
 pub use whitted::{Whitted, MAX_LEVEL_CAP};
+
+/// Largest image edge, in pixels, the renderer accepts from a user (16384² pixels hold
+/// 4 GiB of film), so a typo cannot ask for terabytes.
+pub const MAX_IMAGE_EDGE: u32 = 1 << 14;
