@@ -87,7 +87,8 @@ pub const MAX_SPP: u32 = 1 << 16;
 pub struct TraceRaysArgs {
     /// Mesh file (.obj, .ply, .ply.gz, .gltf, .glb) or scene file (.scn).
     pub mesh: PathBuf,
-    /// Rays: float32 .npy of shape (N, 8): origin xyz, direction xyz, tmin, tmax.
+    /// Rays: .npy of shape (N, 8): origin xyz, direction xyz, tmin, tmax (float32, or
+    /// float64 / Fortran order, converted).
     #[arg(long, value_name = "RAYS.npy")]
     pub rays: PathBuf,
     /// Output .npz with `t`, `prim`, `u`, `v` (or `occluded` with --occluded).

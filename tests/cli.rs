@@ -286,3 +286,59 @@ fn bad_flag_values_are_usage_errors_and_help_shows_the_real_defaults() {
         assert!(help.contains(name), "--scenes help omits {name}: {help}");
     }
 }
+
+/// Writes `rows` as an (N, 8) .npy of f64, in C or Fortran order.
+fn write_npy_f64(path: &Path, rows: &[[f32; 8]], fortran: bool) {
+    let n = rows.len();
+    let order = if fortran { npyz::Order::Fortran } else { npyz::Order::C };
+    let mut w = npyz::WriteOptions::new()
+        .default_dtype()
+        .shape(&[n as u64, 8])
+        .order(order)
+        .writer(std::fs::File::create(path).unwrap())
+        .begin_nd()
+        .unwrap();
+    // Fortran order stores column after column.
+    let values: Vec<f64> = if fortran {
+        (0..8).flat_map(|j| rows.iter().map(move |r| r[j] as f64)).collect()
+    } else {
+        rows.iter().flat_map(|r| r.map(|x| x as f64)).collect()
+    };
+    w.extend(values).unwrap();
+    w.finish().unwrap();
+}
+
+#[test]
+fn float64_and_fortran_order_rays_are_converted_and_give_the_same_hits() {
+    let dir = tempfile::tempdir().unwrap();
+    let rows = bunny_rays();
+    let run = |rays: &Path, name: &str| {
+        let out = dir.path().join(format!("{name}.npz"));
+        let o = ok(dynray(&["trace-rays", &bunny(), "--rays", rays.to_str().unwrap(), "-o", out.to_str().unwrap()]));
+        let t: Vec<u32> = read_npz::<f32>(&out, "t").iter().map(|x| x.to_bits()).collect();
+        (t, read_npz::<i64>(&out, "prim"), stderr(&o))
+    };
+    let plain = dir.path().join("f32.npy");
+    write_npy(&plain, &rows);
+    let (t, prim, note) = run(&plain, "f32");
+    assert!(!note.contains("note"), "{note}");
+    for (fortran, what) in [(false, "float64"), (true, "float64 in Fortran order")] {
+        let wide = dir.path().join(format!("f64-{fortran}.npy"));
+        write_npy_f64(&wide, &rows, fortran);
+        let (t2, prim2, note) = run(&wide, &format!("f64-{fortran}"));
+        assert!(note.contains(&format!("rays given as {what}, converted")), "{note}");
+        assert_eq!((&t2, &prim2), (&t, &prim), "{what} rays give other hits");
+    }
+}
+
+#[test]
+fn trace_rays_output_must_be_an_npz_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let rays = dir.path().join("rays.npy");
+    write_npy(&rays, &bunny_rays());
+    for (out, needle) in [("-", "not a stream"), ("hits.npy", "name the output *.npz")] {
+        let o = dynray(&["trace-rays", &bunny(), "--rays", rays.to_str().unwrap(), "-o", out]);
+        fails_with(o, needle);
+        assert!(!Path::new(out).exists() || out == "-", "{out} was written");
+    }
+}

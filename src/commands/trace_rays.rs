@@ -1,6 +1,7 @@
 //! `dynray trace-rays`: a batch ray-query interface for other programs (numpy users).
 //!
-//! Input: float32 .npy of shape (N, 8) in C order: origin xyz, direction xyz, tmin, tmax.
+//! Input: .npy of shape (N, 8): origin xyz, direction xyz, tmin, tmax; float32 in C order
+//! as it is, float64 or Fortran order converted (with a note on stderr).
 //! Output: .npz with `t` (float32, inf on miss), `prim` (int64, -1 on miss), `u`, `v`
 //! (float32), one entry per ray in input order; with `--occluded`, one bool `occluded`.
 //! Triangle indices follow the faces of the input file (polygons fan-triangulated).
@@ -16,6 +17,7 @@ use std::path::Path;
 use std::time::Instant;
 
 pub fn run(a: TraceRaysArgs) -> Result<()> {
+    check_output(&a.output)?;
     let t_read = Instant::now();
     let rays = read_rays(&a.rays)?;
     let frame = super::load_scene(&a.mesh)?.frame(0.0);
@@ -60,7 +62,8 @@ pub fn run(a: TraceRaysArgs) -> Result<()> {
     Ok(())
 }
 
-/// Reads and checks the (N, 8) float32 ray array.
+/// Reads and checks the (N, 8) ray array: float32 as it is, float64 and Fortran order
+/// (what numpy users often have) converted, with a note on stderr saying so.
 fn read_rays(path: &Path) -> Result<Vec<Ray>> {
     let file = std::fs::File::open(path).with_context(|| format!("{}: cannot open", path.display()))?;
     let npy = npyz::NpyFile::new(std::io::BufReader::new(file))
@@ -69,16 +72,34 @@ fn read_rays(path: &Path) -> Result<Vec<Ray>> {
     if shape.len() != 2 || shape[1] != 8 {
         bail!("{}: rays must have shape (N, 8), found {:?}", path.display(), shape);
     }
-    if npy.order() != npyz::Order::C {
-        bail!("{}: rays must be in C order (numpy's default), found Fortran order", path.display());
+    let n = shape[0];
+    let fortran = npy.order() == npyz::Order::Fortran;
+    let descr = npy.dtype().descr();
+    let truncated = || format!("{}: truncated or unreadable data", path.display());
+    let (mut data, converted): (Vec<f32>, bool) = if descr == "'<f4'" {
+        (npy.into_vec().with_context(truncated)?, false)
+    } else if descr == "'<f8'" {
+        // Rounded to nearest, as numpy's astype(np.float32) does; the engine is f32.
+        let wide: Vec<f64> = npy.into_vec().with_context(truncated)?;
+        (wide.into_iter().map(|x| x as f32).collect(), true)
+    } else {
+        bail!("{}: rays must be float32 or float64 (little-endian '<f4' or '<f8'), found {descr}", path.display());
+    };
+    if data.len() as u64 != n * 8 {
+        bail!("{}: holds {} values, the header promises {}", path.display(), data.len(), n * 8);
     }
-    let dtype = npy.dtype();
-    if dtype != npyz::DType::Plain("<f4".parse().unwrap()) {
-        bail!("{}: rays must be float32 (little-endian '<f4'), found {}", path.display(), dtype.descr());
+    if fortran {
+        // Column-major: element (i, j) is at j·N + i.
+        let n = n as usize;
+        data = (0..n * 8).map(|k| data[(k % 8) * n + k / 8]).collect();
     }
-    let data: Vec<f32> = npy.into_vec().with_context(|| format!("{}: truncated or unreadable data", path.display()))?;
-    if data.len() as u64 != shape[0] * 8 {
-        bail!("{}: holds {} values, the header promises {}", path.display(), data.len(), shape[0] * 8);
+    if converted || fortran {
+        let what = match (converted, fortran) {
+            (true, true) => "float64 in Fortran order",
+            (true, false) => "float64",
+            _ => "Fortran order",
+        };
+        eprintln!("dynray: note: {}: rays given as {what}, converted to C-order float32", path.display());
     }
     data.chunks_exact(8)
         .enumerate()
@@ -92,6 +113,22 @@ fn read_rays(path: &Path) -> Result<Vec<Ray>> {
             Ok(Ray::with_interval(Vec3::new(r[0], r[1], r[2]), Vec3::new(r[3], r[4], r[5]), r[6], r[7]))
         })
         .collect()
+}
+
+/// The output must name a `.npz` archive: `-o -` (no stdout stream here) and `-o x.npy`
+/// (one array cannot hold t, prim, u and v) are refused before any work.
+fn check_output(path: &Path) -> Result<()> {
+    if path.as_os_str() == "-" {
+        bail!("-o -: trace-rays writes a .npz archive, not a stream; give a file name such as hits.npz");
+    }
+    let npz = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("npz"));
+    if !npz {
+        bail!(
+            "{}: trace-rays writes a .npz archive (arrays t, prim, u, v, or occluded); name the output *.npz",
+            path.display()
+        );
+    }
+    Ok(())
 }
 
 type Npz = npyz::npz::NpzWriter<BufWriter<std::fs::File>>;
