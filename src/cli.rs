@@ -99,8 +99,43 @@ pub struct TraceRaysArgs {
     #[arg(long, default_value = "bvh", value_parser = parse_accel)]
     pub accel: AccelSpec,
     /// Any-hit queries: write one boolean `occluded` per ray instead of closest hits.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "fields")]
     pub occluded: bool,
+    /// Arrays of the closest hits to write: `normal` (unit geometric normal) and `point`
+    /// (hit point) are (N, 3), NaN on a miss.
+    #[arg(long, value_name = "LIST", value_delimiter = ',', default_value = "t,prim,u,v")]
+    pub fields: Vec<HitField>,
+}
+
+/// An array `trace-rays` can write for closest hits (docs/trace-rays.md).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum HitField {
+    /// Ray parameter of the hit (inf on a miss).
+    T,
+    /// Triangle index (-1 on a miss).
+    Prim,
+    /// Barycentric weight of the triangle's second vertex.
+    U,
+    /// Barycentric weight of the third vertex.
+    V,
+    /// Unit geometric normal, as the triangle is wound.
+    Normal,
+    /// Hit point on the triangle.
+    Point,
+}
+
+impl HitField {
+    /// The array's name in the archive.
+    pub fn name(self) -> &'static str {
+        match self {
+            HitField::T => "t",
+            HitField::Prim => "prim",
+            HitField::U => "u",
+            HitField::V => "v",
+            HitField::Normal => "normal",
+            HitField::Point => "point",
+        }
+    }
 }
 
 /// `dynray info`.

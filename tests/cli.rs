@@ -342,3 +342,47 @@ fn trace_rays_output_must_be_an_npz_file() {
         assert!(!Path::new(out).exists() || out == "-", "{out} was written");
     }
 }
+
+#[test]
+fn fields_add_normals_and_points_of_the_hits() {
+    let dir = tempfile::tempdir().unwrap();
+    let rays_path = dir.path().join("rays.npy");
+    let rows = bunny_rays();
+    write_npy(&rays_path, &rows);
+    let out = dir.path().join("hits.npz");
+    let args = ["trace-rays", &bunny(), "--rays", rays_path.to_str().unwrap(), "-o", out.to_str().unwrap()];
+    ok(dynray(&[&args[..], &["--fields", "prim,u,v,normal,point"]].concat()));
+    let mut npz = npyz::npz::NpzArchive::open(&out).unwrap();
+    let mut names: Vec<String> = npz.array_names().map(String::from).collect();
+    names.sort();
+    assert_eq!(names, ["normal", "point", "prim", "u", "v"], "only the asked arrays");
+    let shape = npz.by_name("point").unwrap().unwrap().shape().to_vec();
+    assert_eq!(shape, [rows.len() as u64, 3]);
+    let (prim, u, v): (Vec<i64>, Vec<f32>, Vec<f32>) =
+        (read_npz(&out, "prim"), read_npz(&out, "u"), read_npz(&out, "v"));
+    let (normal, point): (Vec<f32>, Vec<f32>) = (read_npz(&out, "normal"), read_npz(&out, "point"));
+    let mesh = dynray_scene::load_file(Path::new(&bunny())).unwrap().frame(0.0).mesh;
+    let mut hits = 0;
+    for (i, r) in rows.iter().enumerate() {
+        let (n, p) = (&normal[i * 3..i * 3 + 3], &point[i * 3..i * 3 + 3]);
+        if prim[i] < 0 {
+            assert!(n.iter().chain(p).all(|x| x.is_nan()), "ray {i}: a miss has NaN normal and point");
+            continue;
+        }
+        hits += 1;
+        let tri = mesh.triangle(prim[i] as usize);
+        let want = tri.p0 * (1.0 - u[i] - v[i]) + tri.p1 * u[i] + tri.p2 * v[i];
+        assert_eq!(p, want.to_array(), "ray {i}: point is the barycentric hit point");
+        let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+        assert!((len - 1.0).abs() < 1e-5, "ray {i}: |normal| = {len}");
+        // The point lies on the ray, up to f32 rounding.
+        let o = dynray_geom::Vec3::new(r[0], r[1], r[2]);
+        let d = dynray_geom::Vec3::new(r[3], r[4], r[5]);
+        let on_ray = (0..3).map(|k| o[k] + d[k] * ((want - o).dot(d) / d.dot(d))).collect::<Vec<f32>>();
+        let off = (0..3).map(|k| (on_ray[k] - p[k]).abs()).fold(0.0f32, f32::max);
+        assert!(off < 1e-4, "ray {i}: point {p:?} is {off} off the ray");
+    }
+    assert!(hits > 400, "{hits}");
+    let o = dynray(&[&args[..], &["--fields", "t", "--occluded"]].concat());
+    assert_eq!(o.status.code(), Some(2), "--fields with --occluded: {}", stderr(&o));
+}

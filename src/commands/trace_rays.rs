@@ -7,10 +7,10 @@
 //! Triangle indices follow the faces of the input file (polygons fan-triangulated).
 //! Arrays are stored uncompressed, as numpy's `np.savez` writes them.
 
-use crate::cli::TraceRaysArgs;
+use crate::cli::{HitField, TraceRaysArgs};
 use anyhow::{bail, Context, Result};
 use dynray_accel::BatchQuery;
-use dynray_geom::{Ray, Vec3};
+use dynray_geom::{Hit, Ray, TriangleMesh, Vec3};
 use npyz::WriterBuilder;
 use std::io::{BufWriter, Write};
 use std::path::Path;
@@ -37,15 +37,11 @@ pub fn run(a: TraceRaysArgs) -> Result<()> {
         let hits = accel.intersect_batch(&rays);
         let trace = t1.elapsed();
         let t2 = Instant::now();
-        let t: Vec<f32> = hits.iter().map(|h| h.t).collect();
-        let prim: Vec<i64> = hits.iter().map(|h| if h.is_hit() { h.prim as i64 } else { -1 }).collect();
-        let u: Vec<f32> = hits.iter().map(|h| h.u).collect();
-        let v: Vec<f32> = hits.iter().map(|h| h.v).collect();
         write_npz(&a.output, |npz| {
-            write_array(npz, "t", &t)?;
-            write_array(npz, "prim", &prim)?;
-            write_array(npz, "u", &u)?;
-            write_array(npz, "v", &v)
+            for field in &a.fields {
+                write_field(npz, *field, &hits, &frame.mesh)?;
+            }
+            Ok(())
         })?;
         (format!("{} hits", hits.iter().filter(|h| h.is_hit()).count()), trace, t2.elapsed())
     };
@@ -133,18 +129,64 @@ fn check_output(path: &Path) -> Result<()> {
 
 type Npz = npyz::npz::NpzWriter<BufWriter<std::fs::File>>;
 
+/// Writes one requested array of the closest hits. `normal` and `point` are (N, 3):
+/// the unit geometric normal as the triangle is wound (`(p1-p0)×(p2-p0)`) and the hit
+/// point `(1-u-v)·p0 + u·p1 + v·p2`, NaN on a miss.
+fn write_field(npz: &mut Npz, field: HitField, hits: &[Hit], mesh: &TriangleMesh) -> std::io::Result<()> {
+    let name = field.name();
+    match field {
+        HitField::T => write_array(npz, name, &hits.iter().map(|h| h.t).collect::<Vec<f32>>()),
+        HitField::Prim => {
+            let prim: Vec<i64> = hits.iter().map(|h| if h.is_hit() { h.prim as i64 } else { -1 }).collect();
+            write_array(npz, name, &prim)
+        }
+        HitField::U => write_array(npz, name, &hits.iter().map(|h| h.u).collect::<Vec<f32>>()),
+        HitField::V => write_array(npz, name, &hits.iter().map(|h| h.v).collect::<Vec<f32>>()),
+        HitField::Normal | HitField::Point => {
+            let miss = [f32::NAN; 3];
+            let rows: Vec<[f32; 3]> = hits
+                .iter()
+                .map(|h| {
+                    if !h.is_hit() {
+                        return miss;
+                    }
+                    let tri = mesh.triangle(h.prim as usize);
+                    let (p0, p1, p2) = (tri.p0, tri.p1, tri.p2);
+                    if field == HitField::Normal {
+                        (p1 - p0).cross(p2 - p0).normalize_or_zero().to_array()
+                    } else {
+                        (p0 * (1.0 - h.u - h.v) + p1 * h.u + p2 * h.v).to_array()
+                    }
+                })
+                .collect();
+            write_rows(npz, name, &rows)
+        }
+    }
+}
+
+/// Zip options of every array: stored, not deflated (numpy's own `np.savez` default):
+/// compressing hit arrays took about 80 % of a 1M-ray round trip and saves little on
+/// float data. ZIP64 only where an array needs it.
+fn stored(bytes: u64) -> zip::write::FileOptions {
+    zip::write::FileOptions::default()
+        .compression_method(zip::CompressionMethod::Stored)
+        .large_file(bytes >= u32::MAX as u64)
+}
+
+/// An (N, 3) float32 array.
+fn write_rows(npz: &mut Npz, name: &str, rows: &[[f32; 3]]) -> std::io::Result<()> {
+    let options = stored(std::mem::size_of_val(rows) as u64);
+    let mut w = npz.array::<f32>(name, options)?.default_dtype().shape(&[rows.len() as u64, 3]).begin_nd()?;
+    w.extend(rows.iter().flatten().copied())?;
+    w.finish()
+}
+
 fn write_array<T: npyz::AutoSerialize + npyz::Serialize + Copy>(
     npz: &mut Npz,
     name: &str,
     data: &[T],
 ) -> std::io::Result<()> {
-    // Stored, not deflated (numpy's own `np.savez` default): compressing hit arrays took
-    // about 80 % of a 1M-ray round trip and saves little on float data. ZIP64 only where
-    // an array needs it.
-    let bytes = std::mem::size_of_val(data) as u64;
-    let options = zip::write::FileOptions::default()
-        .compression_method(zip::CompressionMethod::Stored)
-        .large_file(bytes >= u32::MAX as u64);
+    let options = stored(std::mem::size_of_val(data) as u64);
     let mut w = npz.array::<T>(name, options)?.default_dtype().shape(&[data.len() as u64]).begin_nd()?;
     w.extend(data.iter().copied())?;
     w.finish()
