@@ -21,7 +21,7 @@ pub struct Cli {
 /// Subcommands.
 #[derive(Subcommand, Debug)]
 pub enum Command {
-    /// Render a scene (.scn) or a mesh file (.obj, .ply, .ply.gz, .gltf, .glb) to an image.
+    /// Render a scene (.scn) or a mesh file (.obj, .ply, .ply.gz, .gltf, .glb, .npz) to an image.
     Render(RenderArgs),
     /// Trace a batch of rays from a .npy file and write the hits to a .npz file.
     TraceRays(TraceRaysArgs),
@@ -85,7 +85,8 @@ pub const MAX_SPP: u32 = 1 << 16;
 /// `dynray trace-rays`.
 #[derive(Args, Debug)]
 pub struct TraceRaysArgs {
-    /// Mesh file (.obj, .ply, .ply.gz, .gltf, .glb) or scene file (.scn).
+    /// Mesh file (.obj, .ply, .ply.gz, .gltf, .glb, or .npz with numpy `vertices` and
+    /// `faces`) or scene file (.scn).
     pub mesh: PathBuf,
     /// Rays: .npy of shape (N, 8): origin xyz, direction xyz, tmin, tmax (float32, or
     /// float64 / Fortran order, converted).

@@ -1,8 +1,8 @@
 //! One entry point for mesh and scene files: picks the loader from the file name and
 //! turns what it reads into a [`Scene`].
 //!
-//! Formats, chosen by extension (case-insensitive): `.ply` and `.ply.gz`
-//! ([`crate::formats::ply`]), `.obj` with its `.mtl` ([`crate::formats::obj`]), `.gltf` and
+//! Formats, chosen by extension (case-insensitive): `.npz` numpy arrays
+//! ([`crate::formats::npz`]), `.ply` and `.ply.gz` ([`crate::formats::ply`]), `.obj` with its `.mtl` ([`crate::formats::obj`]), `.gltf` and
 //! `.glb` ([`crate::formats::gltf`]), and scene files in seed 003's language, `.scn`
 //! ([`crate::scn`]).
 //!
@@ -68,6 +68,8 @@ pub enum FileFormat {
     Obj,
     /// glTF 2.0, JSON (`.gltf`) or binary (`.glb`).
     Gltf,
+    /// A mesh as numpy arrays (`vertices` (N, 3), `faces` (M, 3)) in an `.npz` archive.
+    Npz,
     /// A scene in seed 003's scene language.
     Scn,
 }
@@ -83,6 +85,8 @@ impl FileFormat {
             Some(FileFormat::Obj)
         } else if ends(".gltf") || ends(".glb") {
             Some(FileFormat::Gltf)
+        } else if ends(".npz") {
+            Some(FileFormat::Npz)
         } else if ends(".scn") {
             Some(FileFormat::Scn)
         } else {
@@ -101,8 +105,12 @@ pub fn load_file(path: &Path) -> Result<Scene, LoadError> {
 pub fn load_file_report(path: &Path) -> Result<LoadReport, LoadError> {
     let format = FileFormat::of(path).ok_or_else(|| LoadError::UnknownFormat { path: path.to_path_buf() })?;
     match format {
-        FileFormat::Ply => {
-            let mesh = crate::formats::ply::load(path)?;
+        FileFormat::Ply | FileFormat::Npz => {
+            let mesh = if format == FileFormat::Ply {
+                crate::formats::ply::load(path)?
+            } else {
+                crate::formats::npz::load(path)?
+            };
             let name = path.file_name().map(|n| n.to_string_lossy().into_owned());
             Ok(LoadReport { scene: Scene::from_mesh(name, mesh, Material::default()), warnings: Vec::new() })
         }

@@ -10,5 +10,6 @@
 
 pub mod gltf;
 pub(crate) mod mtl;
+pub mod npz;
 pub mod obj;
 pub mod ply;
