@@ -1,6 +1,6 @@
 //! Acceleration structures of dynray behind one interface, and the brute-force oracle.
 //!
-//! Every structure implements [`Accel`]: built from a [`TriangleMesh`], it answers
+//! Every structure implements [`Accel`]: built from a [`TriangleMesh`](dynray_geom::TriangleMesh), it answers
 //! closest-hit ([`Accel::intersect`]) and any-hit ([`Accel::occluded`]) queries that are
 //! bit-identical to [`Brute`]'s, because all of them call the one triangle test of
 //! `dynray-geom` and break `t` ties towards the lower triangle index.

@@ -6,25 +6,25 @@ use dynray_geom::{TriangleMesh, Vec3};
 /// Every structure the engine offers, by the name `--accel` accepts.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum AccelKind {
-    /// [`Brute`]: every triangle for every ray (the oracle).
+    /// [`Brute`](crate::Brute): every triangle for every ray (the oracle).
     Brute,
-    /// [`Bvh`]: binned-SAH bounding volume hierarchy (seed 003).
+    /// [`Bvh`](crate::Bvh): binned-SAH bounding volume hierarchy (seed 003).
     Bvh,
-    /// [`Bih`]: Bounding Interval Hierarchy (seed 000), default [`BihParams`].
+    /// [`Bih`](crate::Bih): Bounding Interval Hierarchy (seed 000), default [`BihParams`](crate::BihParams).
     Bih,
-    /// [`Grid`]: uniform grid (seed 002's baseline), default [`GridParams`].
+    /// [`Grid`](crate::Grid): uniform grid (seed 002's baseline), default [`GridParams`](crate::GridParams).
     Grid,
-    /// [`KdTree`]: SAH kd-tree, stack traversal.
+    /// [`KdTree`](crate::KdTree): SAH kd-tree, stack traversal.
     KdTree,
-    /// [`KdTreeRopes`]: SAH kd-tree, stackless Ropes++ traversal.
+    /// [`KdTreeRopes`](crate::KdTreeRopes): SAH kd-tree, stackless Ropes++ traversal.
     KdTreeRopes,
-    /// [`Octree`]: 2:1-balanced leaf octree walked by neighbour links (seed 002).
+    /// [`Octree`](crate::Octree): 2:1-balanced leaf octree walked by neighbour links (seed 002).
     Octree,
-    /// [`OctreeDescent`]: the same octree, top-down parametric descent (Revelles 2000).
+    /// [`OctreeDescent`](crate::OctreeDescent): the same octree, top-down parametric descent (Revelles 2000).
     OctreeDescent,
-    /// [`Apit`]: A-buffers on a cube around the mesh centre with pseudo-interval trees.
+    /// [`Apit`](crate::Apit): A-buffers on a cube around the mesh centre with pseudo-interval trees.
     Apit,
-    /// [`ABuffer`]: the same A-buffers with plain per-pixel lists (seed 004's baseline).
+    /// [`ABuffer`](crate::ABuffer): the same A-buffers with plain per-pixel lists (seed 004's baseline).
     ABuffer,
 }
 

@@ -75,13 +75,13 @@ pub struct BenchConfig {
     pub out: PathBuf,
     /// Small models, small images, one repetition, every ray verified.
     pub quick: bool,
-    /// Folder of the named models (None: the default search, see [`scenes::scenes_dir`]).
+    /// Folder of the named models (None: the default search, see [`crate::scenes::scenes_dir`]).
     pub scenes_dir: Option<PathBuf>,
     /// Rays per kind checked against brute force (None: all).
     pub verify_sample: Option<usize>,
     /// Frames of the dynamic preset.
     pub frames: usize,
-    /// Write PNG charts and heat maps (needs a font, see [`fonts`]); SVG charts always.
+    /// Write PNG charts and heat maps (needs a font, see [`crate::fonts`]); SVG charts always.
     pub png: bool,
     /// Show a progress bar on stderr.
     pub progress: bool,
