@@ -10,7 +10,7 @@
 use crate::cli::{HitField, TraceRaysArgs};
 use anyhow::{bail, Context, Result};
 use dynray_accel::BatchQuery;
-use dynray_geom::{Hit, Ray, TriangleMesh, Vec3};
+use dynray_geom::{Hit, Ray, TriangleMesh};
 use npyz::WriterBuilder;
 use std::io::{BufWriter, Write};
 use std::path::Path;
@@ -97,18 +97,18 @@ fn read_rays(path: &Path) -> Result<Vec<Ray>> {
         };
         eprintln!("dynray: note: {}: rays given as {what}, converted to C-order float32", path.display());
     }
-    data.chunks_exact(8)
-        .enumerate()
-        .map(|(i, r)| {
-            if let Some(bad) = r[..6].iter().find(|x| !x.is_finite()) {
-                bail!("{}: ray {i} has a non-finite origin or direction component ({bad})", path.display());
-            }
-            if r[6].is_nan() || r[7].is_nan() {
-                bail!("{}: ray {i} has a NaN tmin or tmax", path.display());
-            }
-            Ok(Ray::with_interval(Vec3::new(r[0], r[1], r[2]), Vec3::new(r[3], r[4], r[5]), r[6], r[7]))
-        })
-        .collect()
+    // Rows are `Ray`s as they lie in memory (`Ray` is `#[repr(C)]`, 8 f32s): no copy
+    // where the vector's capacity allows, one memcpy otherwise.
+    let rays: Vec<Ray> = bytemuck::try_cast_vec(data).unwrap_or_else(|(_, data)| bytemuck::cast_slice(&data).to_vec());
+    for (i, r) in rays.iter().enumerate() {
+        if !(r.origin.is_finite() && r.dir.is_finite()) {
+            bail!("{}: ray {i} has a non-finite origin or direction component ({r:?})", path.display());
+        }
+        if r.tmin.is_nan() || r.tmax.is_nan() {
+            bail!("{}: ray {i} has a NaN tmin or tmax", path.display());
+        }
+    }
+    Ok(rays)
 }
 
 /// The output must name a `.npz` archive: `-o -` (no stdout stream here) and `-o x.npy`

@@ -5,7 +5,12 @@ use glam::Vec3;
 /// A ray `origin + t * dir` restricted to the closed interval `[tmin, tmax]`.
 ///
 /// `dir` need not be normalised; `t` is measured in units of `dir`.
-#[derive(Clone, Copy, Debug, PartialEq)]
+///
+/// `#[repr(C)]` and Pod, 8 `f32`s in the order of `trace-rays`' (N, 8) rows (origin,
+/// direction, tmin, tmax), so a flat `&[f32]` of such rows is a `&[Ray]` without copying
+/// (`bytemuck::cast_slice`) and the same bytes upload to a GPU buffer.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct Ray {
     /// Start point.
     pub origin: Vec3,
@@ -16,6 +21,9 @@ pub struct Ray {
     /// Largest accepted hit distance (may be `f32::INFINITY`).
     pub tmax: f32,
 }
+
+// 6 + 2 floats, no padding: what (N, 8) float32 ray arrays hold per row.
+const _: () = assert!(std::mem::size_of::<Ray>() == 32);
 
 impl Ray {
     /// A ray over `[0, ∞]`.
@@ -81,5 +89,18 @@ impl PreparedRay {
 impl From<&Ray> for PreparedRay {
     fn from(r: &Ray) -> Self {
         Self::new(r)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_row_of_eight_floats_is_a_ray() {
+        let rows = [1.0f32, 2.0, 3.0, 0.0, 0.0, -1.0, 0.5, f32::INFINITY, 4.0, 5.0, 6.0, 1.0, 0.0, 0.0, 0.0, 9.0];
+        let rays: &[Ray] = bytemuck::cast_slice(&rows);
+        assert_eq!(rays[0], Ray::with_interval(Vec3::new(1.0, 2.0, 3.0), Vec3::NEG_Z, 0.5, f32::INFINITY));
+        assert_eq!(rays[1], Ray::with_interval(Vec3::new(4.0, 5.0, 6.0), Vec3::X, 0.0, 9.0));
     }
 }
