@@ -1,6 +1,7 @@
 //! Load a mesh, build a BVH, trace rays: the smallest complete use of dynray-accel.
 //!
-//! `cargo run --release -p dynray-accel --example trace_mesh [MESH]` loads MESH (default
+//! `cargo run --release -p dynray-accel --example trace_mesh [MESH]` loads MESH (any
+//! format dynray reads; default
 //! `../shared/scenes/bunny/bun_zipper.ply` beside the checkout; an icosphere when that is
 //! absent), builds a BVH, traces a 256×256 grid of rays at it in one batch, checks a few
 //! against brute force and prints what it found. `cargo test` runs it too.
@@ -21,7 +22,8 @@ struct Summary {
 fn load(path: Option<&Path>) -> (String, TriangleMesh) {
     let default = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/scenes/bunny/bun_zipper.ply");
     let path = path.map(Path::to_path_buf).unwrap_or(default);
-    match dynray_scene::formats::ply::load(&path) {
+    // Any file dynray reads (.ply, .obj, .gltf, .npz, .scn …) as one world-space mesh.
+    match dynray_scene::load_mesh(&path) {
         Ok(mesh) => (path.display().to_string(), mesh),
         Err(e) => {
             eprintln!("{}: {e}; using an icosphere", path.display());

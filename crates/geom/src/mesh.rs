@@ -27,6 +27,14 @@ pub enum MeshError {
         /// The vertex position.
         value: [f32; 3],
     },
+    /// A flat array's length is not a multiple of 3 (see [`TriangleMesh::from_flat`]).
+    #[error("{what} has {len} values, not a multiple of 3")]
+    FlatLength {
+        /// `positions` or `indices`.
+        what: &'static str,
+        /// Values given.
+        len: usize,
+    },
     /// Normals or uvs are present but not one per vertex.
     #[error("{what} has {got} entries for {vertices} vertices")]
     AttributeCount {
@@ -60,6 +68,23 @@ impl TriangleMesh {
     /// Mesh from positions and triangles, without attributes.
     pub fn new(positions: Vec<[f32; 3]>, indices: Vec<[u32; 3]>) -> Self {
         Self { positions, indices, normals: None, uvs: None }
+    }
+
+    /// A validated mesh from flat slices, as other libraries and numpy hold them:
+    /// `positions` is x, y, z per vertex, `indices` three vertex indices per triangle.
+    /// Errors on lengths that are not multiples of 3, and as [`TriangleMesh::validate`].
+    pub fn from_flat(positions: &[f32], indices: &[u32]) -> Result<Self, MeshError> {
+        for (what, len) in [("positions", positions.len()), ("indices", indices.len())] {
+            if len % 3 != 0 {
+                return Err(MeshError::FlatLength { what, len });
+            }
+        }
+        let mesh = Self::new(
+            positions.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect(),
+            indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect(),
+        );
+        mesh.validate()?;
+        Ok(mesh)
     }
 
     /// Number of triangles.
@@ -170,6 +195,18 @@ mod tests {
             vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]],
             vec![[0, 1, 2], [0, 2, 3]],
         )
+    }
+
+    #[test]
+    fn from_flat_builds_and_checks() {
+        let p = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 1.0, 0.0];
+        assert_eq!(TriangleMesh::from_flat(&p, &[0, 1, 2, 0, 2, 3]).unwrap(), quad());
+        assert!(matches!(
+            TriangleMesh::from_flat(&p[..11], &[0, 1, 2]),
+            Err(MeshError::FlatLength { what: "positions", len: 11 })
+        ));
+        assert!(matches!(TriangleMesh::from_flat(&p, &[0, 1]), Err(MeshError::FlatLength { what: "indices", len: 2 })));
+        assert!(matches!(TriangleMesh::from_flat(&p, &[0, 1, 4]), Err(MeshError::IndexOutOfRange { index: 4, .. })));
     }
 
     #[test]

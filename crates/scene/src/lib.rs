@@ -17,7 +17,7 @@ mod transform;
 pub use actor::{Actor, Motion};
 pub use error::LoadError;
 pub use frame::Frame;
-pub use load::{load_file, load_file_report, FileFormat, LoadReport, Warning};
+pub use load::{load_file, load_file_report, load_mesh, FileFormat, LoadReport, Warning};
 pub use model::{Camera, Color, Environment, Finish, Light, LightKind, Material, Projection, Scene, Settings};
 pub use scn::{load_scn, load_scn_report, parse_scn_str};
 pub use transform::Transform;

@@ -19,6 +19,7 @@
 //! them.
 
 use crate::{LoadError, Material, Scene};
+use dynray_geom::TriangleMesh;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
@@ -99,6 +100,14 @@ impl FileFormat {
 /// [`load_file_report`] to get them).
 pub fn load_file(path: &Path) -> Result<Scene, LoadError> {
     load_file_report(path).map(|r| r.scene)
+}
+
+/// Loads any file dynray reads as one world-space triangle mesh: every actor placed by
+/// its transform and concatenated in order (the mesh of the scene's frame at time 0),
+/// for library users who only want geometry to build a structure over. Materials,
+/// lights and warnings are dropped (use [`load_file_report`] for those).
+pub fn load_mesh(path: &Path) -> Result<TriangleMesh, LoadError> {
+    Ok(load_file(path)?.frame(0.0).mesh)
 }
 
 /// Loads a mesh or scene file into a [`Scene`] and returns the warnings met on the way.
