@@ -14,51 +14,13 @@
 //!
 //! Problems that do not stop loading (a missing `.mtl` file, an unknown material name, a
 //! glTF point primitive that is skipped, any of these in a mesh file that a `.scn` reads)
-//! are returned as [`Warning`]s in a [`LoadReport`] by [`load_file_report`]; [`load_file`]
-//! drops them. A library does not print: the caller (the binary) decides whether to show
-//! them.
+//! are returned as [`Warning`](crate::Warning)s in a [`LoadReport`](crate::LoadReport)
+//! (`report.rs`) by [`load_file_report`]; [`load_file`] drops them. A library does not
+//! print: the caller (the binary) decides whether to show them.
 
-use crate::{LoadError, Material, Scene};
+use crate::{LoadError, LoadReport, Material, Scene};
 use dynray_geom::TriangleMesh;
-use std::fmt;
-use std::path::{Path, PathBuf};
-
-/// A problem that did not stop loading; the scene was completed with a documented default.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Warning {
-    /// The file the problem is in (the `.mtl` for a material library problem).
-    pub path: PathBuf,
-    /// 1-based line, for text formats.
-    pub line: Option<usize>,
-    /// What happened and what was used instead.
-    pub message: String,
-}
-
-impl Warning {
-    /// A warning about `path` at `line`.
-    pub fn new(path: &Path, line: Option<usize>, message: impl Into<String>) -> Self {
-        Self { path: path.to_path_buf(), line, message: message.into() }
-    }
-}
-
-impl fmt::Display for Warning {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}", self.path.display())?;
-        if let Some(l) = self.line {
-            write!(f, ":{l}")?;
-        }
-        write!(f, ": {}", self.message)
-    }
-}
-
-/// A loaded scene and the warnings met while loading it.
-#[derive(Clone, Debug, PartialEq)]
-pub struct LoadReport {
-    /// The scene.
-    pub scene: Scene,
-    /// Problems that did not stop loading, in the order they were found.
-    pub warnings: Vec<Warning>,
-}
+use std::path::Path;
 
 /// The file formats [`load_file`] reads.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -26,7 +26,7 @@
 //!   URIs must name regular files (no devices), and bad attribute indices are caught
 //!   before gltf-json's validation, which would panic on them.
 
-use crate::load::{LoadReport, Warning};
+use crate::report::{LoadReport, Warning};
 use crate::{Actor, Finish, LoadError, Material, Motion, Scene, Transform};
 use dynray_geom::{MeshError, TriangleMesh};
 use gltf::accessor::{DataType, Dimensions};

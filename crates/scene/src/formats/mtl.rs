@@ -10,7 +10,7 @@
 //! not supported and give a warning. Texture maps, `Tf`, `sharpness` and every other
 //! statement are ignored.
 
-use crate::load::Warning;
+use crate::report::Warning;
 use crate::{Color, Environment, Finish, LoadError, Material};
 use std::path::Path;
 

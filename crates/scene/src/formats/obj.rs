@@ -54,7 +54,7 @@
 //! Files without emitters get the default light.
 
 use super::mtl::{self, MtlMaterial};
-use crate::load::{LoadReport, Warning};
+use crate::report::{LoadReport, Warning};
 use crate::{Actor, Color, Light, LightKind, LoadError, Material, Scene};
 use dynray_geom::{MeshError, TriangleMesh, Vec3};
 use std::path::Path;
