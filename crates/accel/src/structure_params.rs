@@ -76,6 +76,12 @@ pub fn unknown_key<P: StructureParams>(key: &str) -> BuildError {
     BuildError::UnknownParam { structure: P::STRUCTURE, key: key.to_string(), known: P::key_names() }
 }
 
+/// The `validate` failure of `P` for field `name` (outside its documented range), named
+/// after the structure so the message says whose parameter it is.
+pub fn out_of_range<P: StructureParams>(name: &'static str, message: String) -> Result<(), BuildError> {
+    Err(BuildError::Param { structure: P::STRUCTURE, name, message })
+}
+
 /// Value parsers shared by the `set` implementations, so every structure spells numbers,
 /// switches and "off" alike.
 pub mod value {

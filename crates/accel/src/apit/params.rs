@@ -1,6 +1,6 @@
 //! Build parameters of the A-buffer and the A-PIT, with named presets.
 
-use crate::structure_params::{unknown_key, value, ParamKey, StructureParams};
+use crate::structure_params::{out_of_range, unknown_key, value, ParamKey, StructureParams};
 use crate::BuildError;
 use dynray_geom::Vec3;
 
@@ -93,7 +93,7 @@ impl StructureParams for ApitParams {
     /// Rejects a resolution outside 1..=[`ApitParams::MAX_RESOLUTION`] and an observer
     /// that is not a finite point.
     fn validate(&self) -> Result<(), BuildError> {
-        let err = |name: &'static str, message: String| Err(BuildError::Param { structure: "apit", name, message });
+        let err = out_of_range::<Self>;
         if !(1..=Self::MAX_RESOLUTION).contains(&self.resolution) {
             return err("resolution", format!("{} is outside 1..={}", self.resolution, Self::MAX_RESOLUTION));
         }

@@ -1,6 +1,6 @@
 //! Build parameters of the BIH, with named presets and their useful ranges.
 
-use crate::structure_params::{unknown_key, value, ParamKey, StructureParams};
+use crate::structure_params::{out_of_range, unknown_key, value, ParamKey, StructureParams};
 use crate::BuildError;
 
 /// Deepest tree the builder makes; traversal keeps a stack of this many entries, which
@@ -95,7 +95,7 @@ impl StructureParams for BihParams {
 
     /// Rejects values outside the documented ranges.
     fn validate(&self) -> Result<(), BuildError> {
-        let err = |name: &'static str, message: String| Err(BuildError::Param { structure: "bih", name, message });
+        let err = out_of_range::<Self>;
         if self.max_prims == 0 {
             return err("max_prims", "must be at least 1".into());
         }

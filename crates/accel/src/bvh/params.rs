@@ -1,6 +1,6 @@
 //! Build parameters of the BVH: bin count, leaf sizes and SAH cost constants, with presets.
 
-use crate::structure_params::{unknown_key, value, ParamKey, StructureParams};
+use crate::structure_params::{out_of_range, unknown_key, value, ParamKey, StructureParams};
 use crate::BuildError;
 
 /// How a [`super::Bvh`] is built. Every field documents its useful range; [`BvhParams::validate`]
@@ -90,7 +90,7 @@ impl StructureParams for BvhParams {
 
     /// Checks every field against its documented range.
     fn validate(&self) -> Result<(), BuildError> {
-        let err = |name: &'static str, message: String| Err(BuildError::Param { structure: "bvh", name, message });
+        let err = out_of_range::<Self>;
         if !(2..=256).contains(&self.bins) {
             return err("bins", format!("{} is outside 2..=256", self.bins));
         }

@@ -1,6 +1,6 @@
 //! Build parameters of the uniform grid, with named presets and their useful ranges.
 
-use crate::structure_params::{unknown_key, value, ParamKey, StructureParams};
+use crate::structure_params::{out_of_range, unknown_key, value, ParamKey, StructureParams};
 use crate::BuildError;
 
 /// How the grid is sized. All presets are checked by the oracle tests.
@@ -69,7 +69,7 @@ impl StructureParams for GridParams {
 
     /// Rejects values outside the documented ranges.
     fn validate(&self) -> Result<(), BuildError> {
-        let err = |name: &'static str, message: String| Err(BuildError::Param { structure: "grid", name, message });
+        let err = out_of_range::<Self>;
         if !(self.density.is_finite() && self.density > 0.0) {
             return err("density", format!("{} must be finite and > 0", self.density));
         }

@@ -1,6 +1,6 @@
 //! Build parameters of the kd-tree, with named presets and their useful ranges.
 
-use crate::structure_params::{unknown_key, value, ParamKey, StructureParams};
+use crate::structure_params::{out_of_range, unknown_key, value, ParamKey, StructureParams};
 use crate::BuildError;
 
 /// Deepest tree any preset or user may ask for. The traversal stack holds one entry per
@@ -111,7 +111,7 @@ impl StructureParams for KdTreeParams {
 
     /// Rejects values outside the ranges the builder can honour.
     fn validate(&self) -> Result<(), BuildError> {
-        let bad = |name: &'static str, message: String| Err(BuildError::Param { structure: "kdtree", name, message });
+        let bad = out_of_range::<Self>;
         if !(self.traversal_cost > 0.0 && self.traversal_cost.is_finite()) {
             return bad("traversal_cost", format!("{} is not a positive number", self.traversal_cost));
         }

@@ -1,6 +1,6 @@
 //! Build parameters of the octree, with named presets.
 
-use crate::structure_params::{unknown_key, value, ParamKey, StructureParams};
+use crate::structure_params::{out_of_range, unknown_key, value, ParamKey, StructureParams};
 use crate::BuildError;
 
 /// Deepest octree the builder accepts. The cube map holds `6·4^d` addresses at the finest
@@ -79,7 +79,7 @@ impl StructureParams for OctreeParams {
 
     /// Rejects values outside the encodable range.
     fn validate(&self) -> Result<(), BuildError> {
-        let err = |name: &'static str, message: String| Err(BuildError::Param { structure: "octree", name, message });
+        let err = out_of_range::<Self>;
         if self.max_depth > MAX_DEPTH_LIMIT {
             return err("max_depth", format!("{} exceeds the limit {MAX_DEPTH_LIMIT}", self.max_depth));
         }
