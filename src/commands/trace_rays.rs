@@ -85,9 +85,7 @@ fn read_rays(path: &Path) -> Result<Vec<Ray>> {
         bail!("{}: holds {} values, the header promises {}", path.display(), data.len(), n * 8);
     }
     if fortran {
-        // Column-major: element (i, j) is at j·N + i.
-        let n = n as usize;
-        data = (0..n * 8).map(|k| data[(k % 8) * n + k / 8]).collect();
+        data = dynray_scene::formats::npz::row_major(&data, n as usize, 8);
     }
     if converted || fortran {
         let what = match (converted, fortran) {

@@ -84,8 +84,18 @@ fn matrix(
         return Err(bad(format!("holds {} values, the header promises {}", values.len(), rows * 3)));
     }
     if fortran {
-        // Column-major: element (i, j) is at j·K + i.
-        return Ok((0..rows * 3).map(|k| values[(k % 3) * rows + k / 3]).collect());
+        return Ok(row_major(&values, rows, 3));
     }
     Ok(values)
+}
+
+/// A `rows × cols` array stored in Fortran (column-major) order, as numpy writes
+/// `np.asfortranarray` data, rearranged into C (row-major) order: element `(i, j)` is
+/// read from `j·rows + i`.
+///
+/// # Panics
+/// When `values.len() != rows * cols`; callers check the length against the header.
+pub fn row_major<T: Copy>(values: &[T], rows: usize, cols: usize) -> Vec<T> {
+    assert_eq!(values.len(), rows * cols, "a {rows}×{cols} array holds {} values", values.len());
+    (0..rows * cols).map(|k| values[(k % cols) * rows + k / cols]).collect()
 }
