@@ -12,24 +12,28 @@
 mod aov;
 mod camera;
 mod error;
+mod facing;
 mod film;
 mod integrator;
 mod intersector;
 mod output;
 mod render;
 mod sampler;
+mod shadow;
 mod surface;
 mod whitted;
 
 pub use aov::{Aov, AovIntegrator};
 pub use camera::CameraRays;
 pub use error::RenderError;
+pub use facing::{Facing, MIN_EXIT_COS};
 pub use film::{linear_to_srgb8, Film};
 pub use integrator::{Integrator, IntegratorKind, RayCounts};
 pub use intersector::{Geometry, SceneIntersector, TriangleGeometry};
 pub use output::{write_aov, write_image, OutputFormat};
 pub use render::{render, render_aov, render_with, RenderOptions, RenderStats};
 pub use sampler::Sampler;
+pub use shadow::{filter as shadow_filter, Shadows, MAX_SHADOW_CROSSINGS};
 pub use surface::{GeometryRef, SurfaceHit};
 pub use whitted::{Whitted, MAX_LEVEL_CAP};
 

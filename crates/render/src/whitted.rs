@@ -3,15 +3,27 @@
 //! and weight.
 //!
 //! Decisions the seed leaves open, and what this file does:
-//! - Shadow rays treat every surface as opaque, transparent ones included (the seed casts
-//!   one `occluded` ray per light and does not filter by material). Glass therefore casts
-//!   full shadows.
+//! - Shadow rays let light through transparent surfaces, dimmed and tinted by each one
+//!   they cross (`shadow.rs`); opaque surfaces block. (The seed casts one `occluded` ray
+//!   per light, which made glass cast a black shadow; a frame without transparent
+//!   materials still does exactly that.)
+//! - Normals are oriented by `facing.rs`: the geometric normal towards the ray, the
+//!   shading normal into its hemisphere and bent where its mirror direction would enter
+//!   the surface (silhouettes). Refraction about the shading normal falls back to the
+//!   geometric normal where it would not cross the triangle's plane.
 //! - Entering or leaving a transparent object is decided by the geometric normal as wound
 //!   (`(p1-p0)×(p2-p0)` points outwards) against the ray direction. There is no stack of
 //!   nested media: entering goes from the environment's ior to the material's, leaving
 //!   goes back to the environment's.
-//! - Total internal reflection adds the transparency coefficient to the mirror
-//!   coefficient, so the transmitted energy is reflected instead of lost.
+//! - A transparent surface splits its transparency coefficient between refraction and
+//!   reflection by the Fresnel equations for unpolarised light (the seed gives constant
+//!   coefficients and no rule): `transparency × (1 − F)` refracts and `transparency × F` is
+//!   added to the mirror coefficient. Total internal reflection is `F = 1`, so that energy
+//!   is reflected instead of lost. Without this split, rays entering a tessellated glass
+//!   sphere at its rim refract at the critical angle, are reflected totally at the far
+//!   side by a fraction of a degree of tessellation error, and stay trapped until the
+//!   recursion limit: dark dots on the outline. With it, the rim mostly reflects, as glass
+//!   does.
 //! - The child ray's weight is the parent's weight times the largest component of its
 //!   coefficient (seed 003's GPU rule); it is traced only when the parent's level is below
 //!   `max_recursion_level` and that weight exceeds `min_weight`.
@@ -19,7 +31,7 @@
 // `!(x > y)` is deliberate throughout: it is true for NaN, which must take the safe branch.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use crate::{Integrator, RayCounts, Sampler, SceneIntersector, SurfaceHit};
+use crate::{Facing, Integrator, RayCounts, Sampler, SceneIntersector, Shadows, SurfaceHit};
 use dynray_geom::{Ray, Vec3};
 use dynray_scene::{Color, Frame, LightKind};
 
@@ -38,14 +50,14 @@ pub struct Whitted<'a> {
     env_ior: f32,
     max_level: u32,
     min_weight: f32,
+    shadows: Shadows,
 }
 
-/// What shading needs about a hit: the surface, with the shading normal turned to face
-/// the incoming ray (Whitted shades the side it sees).
+/// What shading needs about a hit: the surface and its normals as the incoming ray sees
+/// them (Whitted shades the side it sees).
 struct Surface<'m> {
     hit: SurfaceHit<'m>,
-    /// Unit shading normal, flipped to face the incoming ray.
-    ns: Vec3,
+    facing: Facing,
 }
 
 impl<'a> Whitted<'a> {
@@ -61,6 +73,7 @@ impl<'a> Whitted<'a> {
             env_ior: sane_ior(frame.environment.ior),
             max_level: frame.settings.max_recursion_level.min(MAX_LEVEL_CAP),
             min_weight: frame.settings.min_weight,
+            shadows: Shadows::new(frame),
         }
     }
 
@@ -69,9 +82,8 @@ impl<'a> Whitted<'a> {
     pub fn trace(&self, ray: &Ray, level: u32, weight: f32, counts: &mut RayCounts) -> Color {
         let c = match self.scene.intersect(ray) {
             Some(hit) => {
-                let d = ray.dir.normalize_or_zero();
-                let ns = if hit.ns.dot(d) > 0.0 { -hit.ns } else { hit.ns };
-                self.shade(ray, &Surface { hit, ns }, level, weight, counts)
+                let facing = Facing::new(&hit, ray.dir);
+                self.shade(ray, &Surface { hit, facing }, level, weight, counts)
             }
             None => self.frame.environment.background,
         };
@@ -88,7 +100,8 @@ impl<'a> Whitted<'a> {
     }
 
     fn shade(&self, ray: &Ray, s: &Surface<'_>, level: u32, weight: f32, counts: &mut RayCounts) -> Color {
-        let (m, p, ng) = (s.hit.material, s.hit.p, s.hit.ng);
+        let (m, p) = (s.hit.material, s.hit.p);
+        let Facing { ng, ns, entering } = s.facing;
         let env = &self.frame.environment;
         let d = ray.dir.normalize_or_zero();
         let view = -d;
@@ -107,7 +120,7 @@ impl<'a> Whitted<'a> {
                 }
                 LightKind::Directional { direction } => (-direction.normalize_or_zero(), f32::INFINITY, 1.0),
             };
-            let ndl = s.ns.dot(l);
+            let ndl = ns.dot(l);
             // Also rejects a zero or NaN light direction and an infinite attenuation.
             if !(ndl > 0.0) || !att.is_finite() {
                 continue;
@@ -115,14 +128,15 @@ impl<'a> Whitted<'a> {
             // Start on the light's side of the triangle's plane, so the shadow ray cannot
             // hit the triangle it leaves.
             let side = if ng.dot(l) >= 0.0 { ng } else { -ng };
-            counts.shadow += 1;
-            if self.scene.occluded(&Ray::with_interval(s.hit.p + side * eps, l, 0.0, tmax)) {
+            let shadow = Ray::with_interval(p + side * eps, l, 0.0, tmax);
+            let through = self.shadows.light_through(self.scene, &shadow, counts);
+            if through == Color::ZERO {
                 continue;
             }
-            let r = s.ns * (2.0 * ndl) - l;
+            let r = ns * (2.0 * ndl) - l;
             let highlight =
                 if m.spot == Color::ZERO { Color::ZERO } else { m.spot * r.dot(view).max(0.0).powf(m.shine) };
-            c += light.color * att * (m.diffuse * ndl + highlight);
+            c += light.color * through * att * (m.diffuse * ndl + highlight);
         }
 
         if level >= self.max_level {
@@ -131,19 +145,28 @@ impl<'a> Whitted<'a> {
         let mut mirror = m.specular;
         let mut transmitted = None;
         if m.transparency.max_element() > 0.0 {
-            let entering = ng.dot(d) < 0.0;
             let ior = sane_ior(m.ior);
             let eta = if entering { self.env_ior / ior } else { ior / self.env_ior };
-            match refract(d, s.ns, eta) {
-                Some(t) => transmitted = Some(t),
+            // Refracted about the (unbent) shading normal, the ray must still cross the
+            // triangle's plane; where it would not (silhouettes), the geometric normal
+            // refracts.
+            let smooth = if s.hit.ns.dot(ng) < 0.0 { -s.hit.ns } else { s.hit.ns };
+            let crossing = |t: &Vec3| t.dot(ng) < 0.0;
+            let refracted = [smooth, ng].into_iter().find_map(|n| refract(d, n, eta).filter(crossing).map(|t| (t, n)));
+            match refracted {
+                Some((t, n)) => {
+                    let r = fresnel(-d.dot(n), eta);
+                    mirror += m.transparency * r;
+                    transmitted = Some((t, m.transparency * (1.0 - r)));
+                }
                 None => mirror += m.transparency,
             }
         }
         if mirror.max_element() > 0.0 {
-            c += self.spawn(s, reflect(d, s.ns), mirror, eps, level, weight, counts);
+            c += self.spawn(s, s.facing.reflect(d), mirror, eps, level, weight, counts);
         }
-        if let Some(t) = transmitted {
-            c += self.spawn(s, t, m.transparency, eps, level, weight, counts);
+        if let Some((t, coef)) = transmitted {
+            c += self.spawn(s, t, coef, eps, level, weight, counts);
         }
         c
     }
@@ -165,7 +188,8 @@ impl<'a> Whitted<'a> {
         if !(w > self.min_weight) {
             return Color::ZERO;
         }
-        let side = if s.hit.ng.dot(dir) >= 0.0 { s.hit.ng } else { -s.hit.ng };
+        let ng = s.facing.ng;
+        let side = if ng.dot(dir) >= 0.0 { ng } else { -ng };
         counts.secondary += 1;
         coef * self.trace(&Ray::new(s.hit.p + side * eps, dir), level + 1, w, counts)
     }
@@ -202,9 +226,24 @@ fn sane_ior(ior: f32) -> f32 {
     }
 }
 
-/// Mirror direction of unit `d` about unit `n`.
-pub(crate) fn reflect(d: Vec3, n: Vec3) -> Vec3 {
-    d - n * (2.0 * d.dot(n))
+/// Fresnel reflectance of an unpolarised ray arriving at a dielectric interface with
+/// `cos_i` between the ray and the normal on its side and `eta = n_from / n_to`: the
+/// mean of the s and p reflectances; 1 beyond the critical angle, 0 when `eta` is 1.
+pub(crate) fn fresnel(cos_i: f32, eta: f32) -> f32 {
+    let cos_i = cos_i.clamp(0.0, 1.0);
+    let sin_t2 = eta * eta * (1.0 - cos_i * cos_i);
+    if !(sin_t2 < 1.0) {
+        return 1.0;
+    }
+    let cos_t = (1.0 - sin_t2).sqrt();
+    let rs = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+    let rp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+    let r = 0.5 * (rs * rs + rp * rp);
+    if r.is_finite() {
+        r.clamp(0.0, 1.0)
+    } else {
+        1.0
+    }
 }
 
 /// Snell refraction of unit `d` through a surface with unit normal `n` facing the
@@ -221,6 +260,7 @@ pub(crate) fn refract(d: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::facing::reflect;
 
     #[test]
     fn reflect_mirrors_about_the_normal() {
@@ -252,6 +292,22 @@ mod tests {
         assert!(refract(at(41.0), Vec3::Y, 1.5).is_some());
         assert!(refract(at(42.5), Vec3::Y, 1.5).is_none());
         assert!(refract(at(10.0), Vec3::Y, f32::NAN).is_none());
+    }
+
+    #[test]
+    fn fresnel_matches_known_values() {
+        // Normal incidence, air to glass: ((1 - 1.5) / (1 + 1.5))² = 0.04.
+        assert!((fresnel(1.0, 1.0 / 1.5) - 0.04).abs() < 1e-6);
+        // Matched media reflect nothing; grazing incidence reflects everything.
+        assert!(fresnel(0.3, 1.0) < 1e-12);
+        assert!(fresnel(1e-4, 1.0 / 1.5) > 0.999);
+        // Beyond the critical angle (glass to air, 41.8°): total.
+        assert_eq!(fresnel(45f32.to_radians().cos(), 1.5), 1.0);
+        // Reciprocity: the same pair of angles reflects the same from either side.
+        let (ci, eta) = (30f32.to_radians().cos(), 1.0 / 1.5);
+        let ct = (1.0 - eta * eta * (1.0 - ci * ci)).sqrt();
+        assert!((fresnel(ci, eta) - fresnel(ct, 1.0 / eta)).abs() < 1e-6);
+        assert_eq!(fresnel(f32::NAN, 1.5), 1.0);
     }
 
     #[test]
