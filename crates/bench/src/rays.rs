@@ -96,7 +96,7 @@ pub fn shadow(frame: &Frame, primary: &[Ray], hits: &[Hit]) -> Vec<Ray> {
     for (r, h) in primary.iter().zip(hits).filter(|(_, h)| h.is_hit()) {
         let hp = r.at(h.t);
         let dir = match light.kind {
-            LightKind::Point { position, .. } => (position - hp).normalize_or_zero(),
+            LightKind::Point { position, .. } | LightKind::Spot { position, .. } => (position - hp).normalize_or_zero(),
             LightKind::Directional { direction } => -direction.normalize_or_zero(),
         };
         if dir == Vec3::ZERO || !dir.is_finite() {
@@ -105,7 +105,7 @@ pub fn shadow(frame: &Frame, primary: &[Ray], hits: &[Hit]) -> Vec<Ray> {
         let (o, _) = surface_point(frame, r, h, dir, eps);
         let ray = match light.kind {
             // Re-aim from the offset origin so the ray ends just short of the light.
-            LightKind::Point { position, .. } => {
+            LightKind::Point { position, .. } | LightKind::Spot { position, .. } => {
                 let d = position - o;
                 Ray::with_interval(o, d.normalize_or_zero(), 0.0, (d.length() - eps).max(0.0))
             }

@@ -13,6 +13,9 @@
 //! A frame without transparent materials answers with one any-hit `occluded` query per
 //! shadow ray, exactly as before this rule existed.
 
+// `!(x > y)` is deliberate: it is true for NaN, which must take the safe branch.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use crate::{RayCounts, SceneIntersector};
 use dynray_geom::Ray;
 use dynray_scene::{Color, Frame, Material};

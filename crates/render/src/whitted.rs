@@ -110,16 +110,20 @@ impl<'a> Whitted<'a> {
 
         for light in &self.frame.lights {
             let (l, tmax, att) = match light.kind {
-                LightKind::Point { position, falloff } => {
+                LightKind::Point { position, falloff } | LightKind::Spot { position, falloff, .. } => {
                     let to = position - p;
                     let dist = to.length();
                     if !(dist > 0.0 && dist.is_finite()) {
                         continue;
                     }
-                    (to / dist, dist - eps, attenuation(dist, falloff))
+                    let l = to / dist;
+                    (l, dist - eps, attenuation(dist, falloff) * light.kind.cone_factor(-l))
                 }
                 LightKind::Directional { direction } => (-direction.normalize_or_zero(), f32::INFINITY, 1.0),
             };
+            if att == 0.0 {
+                continue;
+            }
             let ndl = ns.dot(l);
             // Also rejects a zero or NaN light direction and an infinite attenuation.
             if !(ndl > 0.0) || !att.is_finite() {

@@ -4,6 +4,7 @@
 #![forbid(unsafe_code)]
 
 mod actor;
+mod default_view;
 pub mod demo;
 mod error;
 pub mod formats;

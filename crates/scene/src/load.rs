@@ -8,9 +8,12 @@
 //!
 //! What every loaded file becomes: its meshes as actors (each in its own space with the
 //! transform that places it, see [`crate::Actor`]), its materials (or one default material
-//! when it has none), its lights (or one default point light, [`Scene::add_default_light`],
-//! when it has none), and `camera: None`, which frames the scene's bounding box at render
-//! time.
+//! when it has none), and its lights: OBJ emitters (`Ke`) and glTF `KHR_lights_punctual`
+//! lights, or, for a mesh file without any, one default point light
+//! ([`Scene::add_default_light`]). A mesh file without a camera gets the default view
+//! ([`Camera::default_view`]: from the front, or into an enclosure's open side). A scene
+//! file (`.scn`) is taken as written: no light added (a warning says when it has none)
+//! and, without a `camera`, the same default view.
 //!
 //! Problems that do not stop loading (a missing `.mtl` file, an unknown material name, a
 //! glTF point primitive that is skipped, any of these in a mesh file that a `.scn` reads)
@@ -18,7 +21,7 @@
 //! (`report.rs`) by [`load_file_report`]; [`load_file`] drops them. A library does not
 //! print: the caller (the binary) decides whether to show them.
 
-use crate::{LoadError, LoadReport, Material, Scene};
+use crate::{Actor, Camera, LoadError, LoadReport, Material, Scene, Warning};
 use dynray_geom::TriangleMesh;
 use std::path::Path;
 
@@ -74,6 +77,32 @@ pub fn load_mesh(path: &Path) -> Result<TriangleMesh, LoadError> {
 
 /// Loads a mesh or scene file into a [`Scene`] and returns the warnings met on the way.
 pub fn load_file_report(path: &Path) -> Result<LoadReport, LoadError> {
+    let mut report = load_own(path)?;
+    let scene = &mut report.scene;
+    if FileFormat::of(path) == Some(FileFormat::Scn) {
+        if scene.lights.is_empty() && !scene.actors.is_empty() {
+            let a = scene.environment.ambient;
+            report.warnings.push(Warning::new(
+                path,
+                None,
+                format!(
+                    "the scene has no lights: only its ambient light (rgb({}, {}, {})) reaches the image",
+                    a.x, a.y, a.z
+                ),
+            ));
+        }
+    } else {
+        scene.add_default_light();
+    }
+    if scene.camera.is_none() && !scene.actors.is_empty() {
+        scene.camera = Some(Camera::default_view(scene));
+    }
+    Ok(report)
+}
+
+/// What a file itself holds — its actors, materials, lights and camera — without the
+/// defaults [`load_file_report`] adds: what a `.scn`'s `mesh { file }` takes from it.
+pub(crate) fn load_own(path: &Path) -> Result<LoadReport, LoadError> {
     let format = FileFormat::of(path).ok_or_else(|| LoadError::UnknownFormat { path: path.to_path_buf() })?;
     match format {
         FileFormat::Ply | FileFormat::Npz => {
@@ -83,7 +112,9 @@ pub fn load_file_report(path: &Path) -> Result<LoadReport, LoadError> {
                 crate::formats::npz::load(path)?
             };
             let name = path.file_name().map(|n| n.to_string_lossy().into_owned());
-            Ok(LoadReport { scene: Scene::from_mesh(name, mesh, Material::default()), warnings: Vec::new() })
+            let mut scene = Scene { materials: vec![Material::default()], ..Default::default() };
+            scene.actors.push(Actor::new(name, mesh, 0));
+            Ok(LoadReport { scene, warnings: Vec::new() })
         }
         FileFormat::Obj => crate::formats::obj::load(path),
         FileFormat::Gltf => crate::formats::gltf::load(path),

@@ -93,6 +93,42 @@ pub enum LightKind {
         /// Direction of travel of the light.
         direction: Vec3,
     },
+    /// A point light that shines into a cone (glTF's `spot`): full intensity within
+    /// `cos_inner` of `direction`, none beyond `cos_outer`, a smooth step between, and
+    /// attenuated like [`LightKind::Point`].
+    Spot {
+        /// Position.
+        position: Vec3,
+        /// Axis of the cone, from the light outwards.
+        direction: Vec3,
+        /// Cosine of the angle within which the light is at full intensity.
+        cos_inner: f32,
+        /// Cosine of the angle beyond which no light leaves (`<= cos_inner`).
+        cos_outer: f32,
+        /// Integer attenuation exponent, as for point lights.
+        falloff: i32,
+    },
+}
+
+impl LightKind {
+    /// The share of the light's intensity sent towards `to_point`, a unit direction from
+    /// the light: 1 for point and directional lights, the cone's smooth step for spots.
+    pub fn cone_factor(&self, to_point: Vec3) -> f32 {
+        match *self {
+            LightKind::Spot { direction, cos_inner, cos_outer, .. } => {
+                let c = direction.normalize_or_zero().dot(to_point);
+                if c >= cos_inner {
+                    1.0
+                } else if c <= cos_outer || cos_inner <= cos_outer {
+                    0.0
+                } else {
+                    let x = (c - cos_outer) / (cos_inner - cos_outer);
+                    x * x * (3.0 - 2.0 * x)
+                }
+            }
+            _ => 1.0,
+        }
+    }
 }
 
 /// A light source.
@@ -130,19 +166,6 @@ pub struct Camera {
     pub up: Vec3,
     /// Projection.
     pub projection: Projection,
-}
-
-impl Camera {
-    /// A perspective camera that frames `bounds` (seen from the front-right-above, y up)
-    /// with a 45° vertical field of view.
-    pub fn framing(bounds: &Aabb) -> Self {
-        let c = bounds.center();
-        let radius = (bounds.extent().length() * 0.5).max(1e-3);
-        let fov_y_deg: f32 = 45.0;
-        let dist = radius / (fov_y_deg.to_radians() * 0.5).sin() * 1.05;
-        let dir = Vec3::new(0.35, 0.3, 1.0).normalize();
-        Self { position: c + dir * dist, look_at: c, up: Vec3::Y, projection: Projection::Perspective { fov_y_deg } }
-    }
 }
 
 /// Render settings (the seed's `RayTracerSettings`).

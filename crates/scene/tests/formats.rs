@@ -20,7 +20,7 @@ fn ply_ascii_fans_polygons_of_4_and_5_vertices_in_file_order() {
     assert_eq!(m.normals, None);
     assert_eq!(s.lights.len(), 1, "a bare mesh gets the default light");
     assert_eq!(s.materials.len(), 1, "and the default material");
-    assert_eq!(s.camera, None, "and a framing camera");
+    assert_eq!(s.camera, Some(dynray_scene::Camera::default_view(&s)), "and the default view");
 }
 
 #[test]

@@ -125,8 +125,12 @@ f 1 2 3
     .unwrap();
     let scene = dir.path().join("a.scn");
     // Read twice (two actors): the same warning is reported once.
-    std::fs::write(&scene, "mesh { file \"tri.obj\" }\nmesh { file \"tri.obj\" transform { translate <2,0,0> } }")
-        .unwrap();
+    std::fs::write(
+        &scene,
+        "light { position <0, 5, 0> color rgb(1, 1, 1) }\n\
+         mesh { file \"tri.obj\" }\nmesh { file \"tri.obj\" transform { translate <2,0,0> } }",
+    )
+    .unwrap();
     for r in [dynray_scene::load_file_report(&scene).unwrap(), dynray_scene::load_scn_report(&scene).unwrap()] {
         assert_eq!(r.scene.actors.len(), 2);
         let mtl: Vec<_> = r.warnings.iter().filter(|w| w.message.contains("gone.mtl")).collect();

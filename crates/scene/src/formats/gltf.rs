@@ -11,6 +11,8 @@
 //! - Primitive modes: `TRIANGLES`, plus `TRIANGLE_STRIP` and `TRIANGLE_FAN` converted to
 //!   triangles in order; points and lines are skipped with a warning. Indexed and
 //!   non-indexed primitives are read.
+//! - Lights: `KHR_lights_punctual` lights on the walked nodes, in walk order
+//!   (`gltf_lights.rs`). Cameras in the file are not read.
 //! - Static pose only: morph targets are ignored (the base shape is used) and skinned
 //!   meshes keep their bind pose, placed by their node hierarchy (for CesiumMan this is
 //!   the upright bind pose). Animation is a separate concern.
@@ -101,6 +103,16 @@ pub fn load(path: &Path) -> Result<LoadReport, LoadError> {
                     let name = node.name().or(mesh.name()).map(str::to_string);
                     instances.push((name, mesh, world));
                 }
+                if let Some(light) = node.light() {
+                    match super::gltf_lights::convert(&light, world) {
+                        Some(l) => scene.lights.push(l),
+                        None => warnings.push(Warning::new(
+                            path,
+                            None,
+                            format!("node {}: its light cannot be placed (matrix not finite); skipped", node.index()),
+                        )),
+                    }
+                }
                 let children: Vec<_> = node.children().collect();
                 stack.extend(children.into_iter().rev().map(|c| (c, world)));
             }
@@ -155,7 +167,6 @@ pub fn load(path: &Path) -> Result<LoadReport, LoadError> {
     if scene.actors.is_empty() {
         return Err(LoadError::Mesh { path: path.to_path_buf(), source: MeshError::Empty });
     }
-    scene.add_default_light();
     Ok(LoadReport { scene, warnings })
 }
 

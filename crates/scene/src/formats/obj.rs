@@ -51,7 +51,8 @@
 //! Lambertian emitter of radiance `Ke` seen along its normal. (The Cornell box's
 //! `Ke 17 12 4` over its 0.47 × 0.38 lamp gives about 3.0, 2.1, 0.7.) The emitter's material gets
 //! `ambient = Ke / environment ambient`, so the lamp itself looks as bright as it emits.
-//! Files without emitters get the default light.
+//! Files without emitters get the default light when loaded on their own
+//! ([`crate::load_file_report`]); through a scene file's `mesh { file }` they bring none.
 
 use super::mtl::{self, MtlMaterial};
 use crate::report::{LoadReport, Warning};
@@ -149,7 +150,6 @@ pub fn load(path: &Path) -> Result<LoadReport, LoadError> {
     for (actor, ke) in emitters {
         scene.lights.push(emitter_light(&scene.actors[actor].mesh, ke, nudge, bounds.center()));
     }
-    scene.add_default_light();
     Ok(LoadReport { scene, warnings })
 }
 

@@ -48,6 +48,7 @@ pub(crate) fn build(st: State) -> Result<Scene, Diag> {
     let mut index_of: HashMap<*const Material, u32> = HashMap::new();
     let mut default_index = None;
     for entry in st.actors {
+        scene.lights.extend_from_slice(&entry.object.lights);
         // Parts of one object share one transform (modifiers apply to the whole object),
         // so the actor keeps its parts in object space and the transform beside them; the
         // frame applies it with the same `f32` matrix the builder once baked with, so

@@ -6,10 +6,10 @@
 //! (centre, radius) until the whole file is read, so that `settings { sphere_detail }`
 //! applies to every sphere wherever it is written; see `build.rs`.
 
-use super::mesh_file::load_mesh_file;
+use super::mesh_file::{load_mesh_file, MeshFile};
 use super::parser::{Def, Parser, Span, R};
 use crate::shapes::cuboid;
-use crate::Material;
+use crate::{Light, LightKind, Material};
 use dynray_geom::TriangleMesh;
 use glam::{DMat4, Vec3};
 use std::collections::HashMap;
@@ -43,17 +43,23 @@ pub(crate) struct Part {
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Object {
     pub parts: Vec<Part>,
+    /// Lights that come with the geometry (a mesh file's lamps), in world space: each
+    /// placement of the object adds them to the scene.
+    pub lights: Vec<Light>,
 }
 
 impl Object {
     fn single(shape: Shape) -> Self {
-        Object { parts: vec![Part { shape, transform: DMat4::IDENTITY, material: None }] }
+        Object { parts: vec![Part { shape, transform: DMat4::IDENTITY, material: None }], lights: Vec::new() }
     }
 
-    /// Applies `m` after the transforms already there.
+    /// Applies `m` after the transforms already there, to the parts and their lights.
     fn transform(&mut self, m: DMat4) {
         for p in &mut self.parts {
             p.transform = m * p.transform;
+        }
+        for l in &mut self.lights {
+            *l = transform_light(l, &m);
         }
     }
 
@@ -74,6 +80,21 @@ impl Object {
             }
         }
     }
+}
+
+/// `light` moved by `m`: positions as points, directions by the linear part (then
+/// normalised; their length carries no meaning).
+fn transform_light(light: &Light, m: &DMat4) -> Light {
+    let point = |p: Vec3| m.transform_point3(p.as_dvec3()).as_vec3();
+    let dir = |d: Vec3| m.transform_vector3(d.as_dvec3()).as_vec3().normalize_or_zero();
+    let kind = match light.kind {
+        LightKind::Point { position, falloff } => LightKind::Point { position: point(position), falloff },
+        LightKind::Directional { direction } => LightKind::Directional { direction: dir(direction) },
+        LightKind::Spot { position, direction, cos_inner, cos_outer, falloff } => {
+            LightKind::Spot { position: point(position), direction: dir(direction), cos_inner, cos_outer, falloff }
+        }
+    };
+    Light { kind, color: light.color }
 }
 
 impl Parser<'_> {
@@ -153,7 +174,7 @@ impl Parser<'_> {
 
     /// `mesh { (file "…" | vertices … [normals …] triangles …) modifiers }`.
     fn mesh(&mut self) -> R<Object> {
-        let mut file: Option<Vec<(TriangleMesh, Option<Material>)>> = None;
+        let mut file: Option<MeshFile> = None;
         let mut vertices: Option<Vec<Vec3>> = None;
         let mut normals: Option<(Vec<Vec3>, Span)> = None;
         let mut triangles: Option<Vec<Tri>> = None;
@@ -170,11 +191,11 @@ impl Parser<'_> {
                     "file" => {
                         let (rel, s) = p.string("a quoted file name")?;
                         let path = p.dir.join(&rel);
-                        let (parts, warnings) = load_mesh_file(&path).map_err(|e| {
+                        let mut loaded = load_mesh_file(&path).map_err(|e| {
                             p.err(s, format!("cannot load mesh file `{rel}`")).label("this file").note(e.to_string())
                         })?;
-                        p.st.warnings.extend(warnings);
-                        file = Some(parts);
+                        p.st.warnings.append(&mut loaded.warnings);
+                        file = Some(loaded);
                     }
                     "vertices" => vertices = Some(p.vector_list("vertices", "vertex")?),
                     "normals" => {
@@ -187,7 +208,7 @@ impl Parser<'_> {
                 Ok(())
             })?;
         let mut obj = match file {
-            Some(parts) => {
+            Some(MeshFile { parts, lights, .. }) => {
                 if let (Some((k, s)), Some(f)) = (inline_key, file_key) {
                     return Err(self
                         .err(s, format!("`{k}` cannot be combined with `file` in one `mesh`"))
@@ -203,6 +224,7 @@ impl Parser<'_> {
                             material: mat.map(Rc::new),
                         })
                         .collect(),
+                    lights,
                 }
             }
             None => {
