@@ -8,9 +8,10 @@
 //! a [`crate::Motion::Dynamic`] actor will get its transform, or its deformed local
 //! vertices, for `t` there, without changing its triangle count or order.
 
-use crate::{Camera, Environment, Light, Material, Projection, Scene, Settings};
+use crate::{Camera, Environment, Light, Material, Projection, Scene, Settings, Texture};
 use dynray_geom::{TriangleMesh, Vec3};
 use std::ops::Range;
+use std::sync::Arc;
 
 /// One time step of a scene, flattened for the acceleration structures and integrators.
 #[derive(Clone, Debug, PartialEq)]
@@ -22,6 +23,8 @@ pub struct Frame {
     pub materials_of: Vec<u32>,
     /// Materials.
     pub materials: Vec<Material>,
+    /// The scene's textures (shared pointers: filling a frame copies no texels).
+    pub textures: Vec<Arc<Texture>>,
     /// Lights.
     pub lights: Vec<Light>,
     /// The camera (resolved: never absent).
@@ -47,6 +50,7 @@ impl Default for Frame {
             mesh: TriangleMesh::default(),
             materials_of: Vec::new(),
             materials: Vec::new(),
+            textures: Vec::new(),
             lights: Vec::new(),
             camera: Camera {
                 position: Vec3::Z,
@@ -136,6 +140,7 @@ impl Scene {
         if frame.materials.is_empty() {
             frame.materials.push(Material::default());
         }
+        frame.textures.clone_from(&self.textures);
         frame.lights.clone_from(&self.lights);
         frame.camera = self.camera.unwrap_or_else(|| Camera::framing(&frame.mesh.bounds()));
         frame.settings = self.settings;

@@ -60,6 +60,7 @@ impl MtlMaterial {
             specular: if mirror { ks } else { Color::ZERO },
             transparency: Color::splat((1.0 - opacity).clamp(0.0, 1.0)),
             ior: self.ni.unwrap_or(1.0),
+            diffuse_texture: None,
         }
     }
 }
