@@ -93,7 +93,8 @@ impl<'a> Whitted<'a> {
         let d = ray.dir.normalize_or_zero();
         let view = -d;
         let eps = self.eps(p);
-        let mut c = m.ambient * env.ambient;
+        let (diffuse, ambient) = (s.hit.diffuse(), s.hit.ambient());
+        let mut c = ambient * env.ambient;
 
         for light in &self.frame.lights {
             let (l, tmax, att) = match light.kind {
@@ -122,7 +123,7 @@ impl<'a> Whitted<'a> {
             let r = s.ns * (2.0 * ndl) - l;
             let highlight =
                 if m.spot == Color::ZERO { Color::ZERO } else { m.spot * r.dot(view).max(0.0).powf(m.shine) };
-            c += light.color * att * (m.diffuse * ndl + highlight);
+            c += light.color * att * (diffuse * ndl + highlight);
         }
 
         if level >= self.max_level {
