@@ -242,3 +242,80 @@ fn bart_ppm_textures_decode() {
     }
     assert!(n >= 10, "found {n} PPMs");
 }
+
+// ---------------------------------------------------------------------------------------
+// OBJ/MTL
+
+/// A unit quad with `vt` (0,0) at its bottom-left, using material `m` of `lib.mtl`.
+const QUAD_OBJ: &str = "mtllib lib.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n\
+                        vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nusemtl m\nf 1/1 2/2 3/3 4/4\n";
+
+#[test]
+fn obj_map_kd_keeps_obj_uvs_and_applies_offset_and_scale() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir(dir.path().join("maps")).unwrap();
+    write(dir.path(), "maps/quad.png", &quad_png());
+    write(dir.path(), "lib.mtl", b"newmtl m\nKd 0.5 0.5 0.5\nmap_Kd maps/quad.png\n");
+    let p = write(dir.path(), "q.obj", QUAD_OBJ.as_bytes());
+    let r = load(&p);
+    assert!(r.warnings.is_empty(), "{:?}", r.warnings);
+    let s = &r.scene;
+    assert_eq!(s.textures.len(), 1);
+    // OBJ's vt (0, 0) is the image's bottom-left, as in dynray: uvs are kept as written.
+    assert_eq!(s.actors[0].mesh.uvs.as_ref().unwrap()[0], [0.0, 0.0]);
+    assert_eq!(texel_at(s, 0, Vec2::new(0.25, 0.25)), Color::Z, "bottom-left texel, blue");
+    assert_eq!(texel_at(s, 0, Vec2::new(0.25, 0.75)), Color::X, "top-left texel, red");
+    assert_eq!(s.materials[0].diffuse, Color::splat(0.5), "Kd stays; the texture multiplies it");
+
+    // -o and -s: uv × s + o; -clamp on clamps.
+    write(dir.path(), "lib.mtl", b"newmtl m\nmap_Kd -s 0.5 0.5 -o 0.5 0 -clamp on maps/quad.png\n");
+    let r = load(&p);
+    assert!(r.warnings.is_empty(), "{:?}", r.warnings);
+    let t = r.scene.materials[0].diffuse_texture.unwrap();
+    assert_eq!(t.sampler.wrap_u, Wrap::ClampToEdge);
+    // (0.5, 0.5) -> (0.75, 0.25): the bottom-right texel.
+    assert_eq!(texel_at(&r.scene, 0, Vec2::new(0.5, 0.5)), Color::ONE);
+}
+
+#[test]
+fn obj_missing_texture_warns_with_the_mtl_line_and_renders_untextured() {
+    let dir = tempfile::tempdir().unwrap();
+    write(dir.path(), "lib.mtl", b"newmtl m\nKd 1 0 0\n\nmap_Kd -bm 1 missing.png\n");
+    let p = write(dir.path(), "q.obj", QUAD_OBJ.as_bytes());
+    let r = load(&p);
+    let msgs: Vec<String> = r.warnings.iter().map(|w| w.to_string()).collect();
+    let mtl = dir.path().join("lib.mtl").display().to_string();
+    let missing = msgs.iter().find(|m| m.contains("missing.png")).unwrap_or_else(|| panic!("{msgs:?}"));
+    assert!(missing.starts_with(&format!("{mtl}:4: material `m`")), "{missing}");
+    assert!(missing.contains("untextured"), "{missing}");
+    assert!(msgs.iter().any(|m| m.starts_with(&format!("{mtl}:4: `map_Kd`: option `-bm`"))), "{msgs:?}");
+    assert_eq!(msgs.len(), 2, "{msgs:?}");
+    assert!(r.scene.materials[0].diffuse_texture.is_none());
+    assert!(r.scene.textures.is_empty());
+}
+
+#[test]
+fn obj_faces_without_vt_render_their_textured_material_untextured_with_a_warning() {
+    let dir = tempfile::tempdir().unwrap();
+    write(dir.path(), "quad.png", &quad_png());
+    write(dir.path(), "lib.mtl", b"newmtl m\nmap_Kd quad.png\n");
+    let p = write(dir.path(), "n.obj", b"mtllib lib.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl m\nf 1 2 3\n");
+    let r = load(&p);
+    assert_eq!(r.warnings.len(), 1, "{:?}", r.warnings);
+    assert!(r.warnings[0].message.contains("no texture coordinates"), "{}", r.warnings[0]);
+    let m = r.scene.actors[0].materials[0] as usize;
+    assert!(r.scene.materials[m].diffuse_texture.is_none());
+}
+
+#[test]
+fn obj_texture_shared_by_two_materials_is_decoded_once() {
+    let dir = tempfile::tempdir().unwrap();
+    write(dir.path(), "quad.png", &quad_png());
+    write(dir.path(), "lib.mtl", b"newmtl m\nmap_Kd quad.png\nnewmtl n\nKd 1 0 0\nmap_Kd quad.png\n");
+    let obj = format!("{QUAD_OBJ}usemtl n\nf 1/1 3/3 4/4\n");
+    let r = load(&write(dir.path(), "two.obj", obj.as_bytes()));
+    assert!(r.warnings.is_empty(), "{:?}", r.warnings);
+    assert_eq!(r.scene.textures.len(), 1);
+    let [a, b] = [0, 1].map(|i| r.scene.materials[i].diffuse_texture.unwrap().texture);
+    assert_eq!(a, b);
+}
