@@ -319,3 +319,112 @@ fn obj_texture_shared_by_two_materials_is_decoded_once() {
     let [a, b] = [0, 1].map(|i| r.scene.materials[i].diffuse_texture.unwrap().texture);
     assert_eq!(a, b);
 }
+
+// ---------------------------------------------------------------------------------------
+// scene language
+
+const CAMERA: &str = "camera { perspective position <0, 0, 5> to <0, 0, 0> up <0, 1, 0> }\n";
+
+#[test]
+fn scn_texture_on_a_box_is_relative_to_the_scene_file() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir_all(dir.path().join("scenes/maps")).unwrap();
+    write(dir.path(), "scenes/maps/quad.png", &quad_png());
+    let scn = format!(
+        "{CAMERA}define tiles material {{ color rgb(1, 0.5, 1) texture \"maps/quad.png\" }}\n\
+         box {{ center <0, 0, 0> orientation <0, 0, 0> scale <2, 2, 2> material tiles }}\n\
+         box {{ center <3, 0, 0> orientation <0, 0, 0> scale <1, 1, 1> material tiles }}\n"
+    );
+    let p = write(dir.path(), "scenes/t.scn", scn.as_bytes());
+    let r = load(&p);
+    assert!(r.warnings.is_empty(), "{:?}", r.warnings);
+    let s = &r.scene;
+    assert_eq!(s.textures.len(), 1, "one file, one texture");
+    let m = &s.materials[s.actors[0].materials[0] as usize];
+    assert!(m.diffuse_texture.is_some());
+    // colour × finish as before; the texture multiplies on top.
+    assert!((m.diffuse - Color::new(0.9, 0.45, 0.9)).abs().max_element() < 1e-6, "{}", m.diffuse);
+    assert_eq!(m.diffuse_texel(&s.textures, Vec2::new(0.25, 0.75)), Color::X);
+    let f = s.frame(0.0);
+    assert!(f.mesh.uvs.is_some() && f.textures.len() == 1);
+}
+
+#[test]
+fn scn_missing_texture_warns_with_the_line_and_loads_untextured() {
+    let dir = tempfile::tempdir().unwrap();
+    let scn = format!(
+        "{CAMERA}box {{ center <0, 0, 0> orientation <0, 0, 0> scale <1, 1, 1>\n\
+         material {{ color rgb(1, 1, 1)\n texture \"nope.png\" }} }}\n"
+    );
+    let p = write(dir.path(), "m.scn", scn.as_bytes());
+    let r = load(&p);
+    assert_eq!(r.warnings.len(), 1, "{:?}", r.warnings);
+    let w = r.warnings[0].to_string();
+    assert!(w.starts_with(&format!("{}:4: texture: ", p.display())), "{w}");
+    assert!(w.contains("nope.png") && w.contains("untextured"), "{w}");
+    assert!(r.scene.materials[0].diffuse_texture.is_none());
+    assert!(r.scene.textures.is_empty());
+}
+
+#[test]
+fn scn_textures_of_unused_definitions_are_not_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let scn = format!(
+        "{CAMERA}define unused material {{ color rgb(1, 1, 1) texture \"nowhere.png\" }}\n\
+         sphere {{ center <0, 0, 0> radius 1 }}\n"
+    );
+    let r = load(&write(dir.path(), "u.scn", scn.as_bytes()));
+    assert!(r.warnings.is_empty(), "{:?}", r.warnings);
+    assert!(r.scene.textures.is_empty());
+}
+
+#[test]
+fn scn_texture_on_a_sphere_warns_that_it_has_no_uvs() {
+    let dir = tempfile::tempdir().unwrap();
+    write(dir.path(), "quad.png", &quad_png());
+    let scn = format!(
+        "{CAMERA}define ball material {{ color rgb(1, 1, 1) texture \"quad.png\" }}\n\
+         sphere {{ center <0, 0, 0> radius 1 material ball }}\n"
+    );
+    let p = write(dir.path(), "s.scn", scn.as_bytes());
+    let r = load(&p);
+    assert_eq!(r.warnings.len(), 1, "{:?}", r.warnings);
+    let w = r.warnings[0].to_string();
+    assert!(w.contains("material `ball` has a texture but the mesh has no texture coordinates"), "{w}");
+    assert!(r.scene.materials[r.scene.actors[0].materials[0] as usize].diffuse_texture.is_none());
+}
+
+#[test]
+fn scn_mesh_files_keep_their_own_textures_beside_the_scene_files() {
+    let dir = tempfile::tempdir().unwrap();
+    // The scene's own texture is a plain green 1 × 1; the OBJ's is the quad.
+    write(dir.path(), "green.png", &png(1, 1, &[0, 255, 0]));
+    write(dir.path(), "quad.png", &quad_png());
+    write(dir.path(), "lib.mtl", b"newmtl m\nmap_Kd quad.png\n");
+    write(dir.path(), "q.obj", QUAD_OBJ.as_bytes());
+    let scn = format!(
+        "{CAMERA}box {{ center <0, 0, 0> orientation <0, 0, 0> scale <1, 1, 1>\n\
+         material {{ color rgb(1, 1, 1) texture \"green.png\" }} }}\n\
+         mesh {{ file \"q.obj\" }}\n"
+    );
+    let r = load(&write(dir.path(), "mix.scn", scn.as_bytes()));
+    assert!(r.warnings.is_empty(), "{:?}", r.warnings);
+    let s = &r.scene;
+    assert_eq!(s.textures.len(), 2);
+    let texel = |actor: usize, uv: Vec2| s.materials[s.actors[actor].materials[0] as usize].diffuse_texel(&s.textures, uv);
+    assert_eq!(texel(0, Vec2::new(0.5, 0.5)), Color::Y, "the box shows the scene's texture");
+    assert_eq!(texel(1, Vec2::new(0.25, 0.25)), Color::Z, "the OBJ shows its own, renumbered");
+    // Replacing the mesh file's material drops its texture.
+    let scn = format!("{CAMERA}mesh {{ file \"q.obj\" material {{ color rgb(1, 0, 0) }} }}\n");
+    let r = load(&write(dir.path(), "plain.scn", scn.as_bytes()));
+    assert!(r.scene.materials.iter().all(|m| m.diffuse_texture.is_none()));
+    assert!(r.scene.textures.is_empty(), "the OBJ's texture is no longer used");
+}
+
+#[test]
+fn scn_texture_given_twice_is_an_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let scn = format!("{CAMERA}sphere {{ center <0, 0, 0> radius 1 material {{ color rgb(1, 1, 1) texture \"a.png\" texture \"b.png\" }} }}\n");
+    let e = load_file_report(&write(dir.path(), "d.scn", scn.as_bytes())).unwrap_err().to_string();
+    assert!(e.contains("duplicated parameter `texture`"), "{e}");
+}

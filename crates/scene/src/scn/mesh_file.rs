@@ -3,9 +3,10 @@
 //! files. Scene files themselves are not meshes: including one goes through `include`.
 
 use crate::load::{load_file_report, FileFormat};
-use crate::{LoadError, Material, Warning};
+use crate::{LoadError, Material, Texture, Warning};
 use dynray_geom::TriangleMesh;
 use std::path::Path;
+use std::sync::Arc;
 
 /// A mesh file read as parts: (world-space mesh, material from the file).
 pub(crate) type Parts = Vec<(TriangleMesh, Option<Material>)>;
@@ -14,8 +15,9 @@ pub(crate) type Parts = Vec<(TriangleMesh, Option<Material>)>;
 /// within each part, in the file's own world space (a glTF node's matrix is applied
 /// here, since the scene file's transform composes with it). Lights and cameras of the
 /// file are not taken: the scene file places its own. The loader's warnings (a missing
-/// `.mtl`, say) come back with the parts, naming the mesh file, for the scene's report.
-pub(crate) fn load_mesh_file(path: &Path) -> Result<(Parts, Vec<Warning>), LoadError> {
+/// `.mtl`, say) come back with the parts, naming the mesh file, for the scene's report,
+/// and so do the textures its materials name (by index into that list).
+pub(crate) fn load_mesh_file(path: &Path) -> Result<(Parts, Vec<Arc<Texture>>, Vec<Warning>), LoadError> {
     if FileFormat::of(path) == Some(FileFormat::Scn) {
         return Err(LoadError::parse(path, None, "a scene file is not a mesh: use `include` to read it"));
     }
@@ -42,5 +44,5 @@ pub(crate) fn load_mesh_file(path: &Path) -> Result<(Parts, Vec<Warning>), LoadE
             parts.push((mesh, material(id)));
         }
     }
-    Ok((parts, report.warnings))
+    Ok((parts, scene.textures, report.warnings))
 }

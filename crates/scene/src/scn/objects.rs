@@ -7,6 +7,7 @@
 //! applies to every sphere wherever it is written; see `build.rs`.
 
 use super::mesh_file::load_mesh_file;
+use super::textures::shifted;
 use super::parser::{Def, Parser, Span, R};
 use crate::shapes::cuboid;
 use crate::Material;
@@ -170,10 +171,15 @@ impl Parser<'_> {
                     "file" => {
                         let (rel, s) = p.string("a quoted file name")?;
                         let path = p.dir.join(&rel);
-                        let (parts, warnings) = load_mesh_file(&path).map_err(|e| {
+                        let (mut parts, textures, warnings) = load_mesh_file(&path).map_err(|e| {
                             p.err(s, format!("cannot load mesh file `{rel}`")).label("this file").note(e.to_string())
                         })?;
                         p.st.warnings.extend(warnings);
+                        // The file's materials name its textures; renumber into the scene's.
+                        let base = p.add_decoded_textures(textures);
+                        for m in parts.iter_mut().filter_map(|(_, m)| m.as_mut()) {
+                            m.diffuse_texture = m.diffuse_texture.map(|t| shifted(t, base));
+                        }
                         file = Some(parts);
                     }
                     "vertices" => vertices = Some(p.vector_list("vertices", "vertex")?),

@@ -63,14 +63,17 @@ pub(crate) fn untexture_where_no_uvs(scene: &mut Scene, path: &Path, warnings: &
             }
             if !warned.contains(id) {
                 warned.push(*id);
-                let who = actor.name.clone().unwrap_or_else(|| format!("object {a}"));
+                let who = match &actor.name {
+                    Some(n) => format!("`{n}` (object {a})"),
+                    None => format!("object {a}"),
+                };
+                let what = if m.name.is_empty() { "its material".to_string() } else { format!("material `{}`", m.name) };
                 warnings.push(Warning::new(
                     path,
                     None,
                     format!(
-                        "{who}: material `{}` has a texture but the mesh has no texture coordinates; \
-                         it is rendered untextured",
-                        m.name
+                        "{who}: {what} has a texture but the mesh has no texture coordinates; \
+                         it is rendered untextured"
                     ),
                 ));
             }
@@ -122,7 +125,7 @@ mod tests {
         assert_eq!(s.materials.len(), 2);
         assert_eq!(s.materials[1], Material { diffuse_texture: None, ..textured });
         assert_eq!(w.len(), 2);
-        assert!(w[0].to_string().starts_with("x.scn: b: material `wood` has a texture"), "{}", w[0]);
+        assert!(w[0].to_string().starts_with("x.scn: `b` (object 1): material `wood` has a texture"), "{}", w[0]);
         assert!(w[1].message.starts_with("object 2:"), "{}", w[1]);
     }
 }
