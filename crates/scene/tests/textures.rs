@@ -411,7 +411,8 @@ fn scn_mesh_files_keep_their_own_textures_beside_the_scene_files() {
     assert!(r.warnings.is_empty(), "{:?}", r.warnings);
     let s = &r.scene;
     assert_eq!(s.textures.len(), 2);
-    let texel = |actor: usize, uv: Vec2| s.materials[s.actors[actor].materials[0] as usize].diffuse_texel(&s.textures, uv);
+    let texel =
+        |actor: usize, uv: Vec2| s.materials[s.actors[actor].materials[0] as usize].diffuse_texel(&s.textures, uv);
     assert_eq!(texel(0, Vec2::new(0.5, 0.5)), Color::Y, "the box shows the scene's texture");
     assert_eq!(texel(1, Vec2::new(0.25, 0.25)), Color::Z, "the OBJ shows its own, renumbered");
     // Replacing the mesh file's material drops its texture.

@@ -7,8 +7,8 @@
 //! applies to every sphere wherever it is written; see `build.rs`.
 
 use super::mesh_file::load_mesh_file;
-use super::textures::shifted;
 use super::parser::{Def, Parser, Span, R};
+use super::textures::shifted;
 use crate::shapes::cuboid;
 use crate::Material;
 use dynray_geom::TriangleMesh;

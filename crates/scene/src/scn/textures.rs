@@ -62,7 +62,11 @@ pub(crate) fn resolve(scene: &mut Scene, textures: Vec<SceneTexture>, warnings: 
                 SceneTexture::File { path, named_in, line } => match Texture::load(&path, ColorSpace::Srgb) {
                     Ok(t) => Arc::new(t),
                     Err(e) => {
-                        warnings.push(Warning::new(&named_in, Some(line), format!("texture: {e}; the material is untextured")));
+                        warnings.push(Warning::new(
+                            &named_in,
+                            Some(line),
+                            format!("texture: {e}; the material is untextured"),
+                        ));
                         return None;
                     }
                 },

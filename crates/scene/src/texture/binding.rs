@@ -67,7 +67,8 @@ pub(crate) fn untexture_where_no_uvs(scene: &mut Scene, path: &Path, warnings: &
                     Some(n) => format!("`{n}` (object {a})"),
                     None => format!("object {a}"),
                 };
-                let what = if m.name.is_empty() { "its material".to_string() } else { format!("material `{}`", m.name) };
+                let what =
+                    if m.name.is_empty() { "its material".to_string() } else { format!("material `{}`", m.name) };
                 warnings.push(Warning::new(
                     path,
                     None,
@@ -110,7 +111,8 @@ mod tests {
     #[test]
     fn textured_materials_leave_meshes_without_uvs() {
         let tri = || TriangleMesh::new(vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], vec![[0, 1, 2]]);
-        let textured = Material { name: "wood".into(), diffuse_texture: Some(TextureRef::new(0)), ..Default::default() };
+        let textured =
+            Material { name: "wood".into(), diffuse_texture: Some(TextureRef::new(0)), ..Default::default() };
         let mut s = Scene { materials: vec![textured.clone()], ..Default::default() };
         let mut with_uvs = tri();
         with_uvs.uvs = Some(vec![[0.0; 2]; 3]);

@@ -98,7 +98,8 @@ impl Texture {
     ) -> Result<Texture, TextureError> {
         let name = name.into();
         let fail = |message: String| TextureError::Decode { name: name.clone(), message };
-        let mut reader = image::ImageReader::new(Cursor::new(bytes)).with_guessed_format().map_err(|e| fail(e.to_string()))?;
+        let mut reader =
+            image::ImageReader::new(Cursor::new(bytes)).with_guessed_format().map_err(|e| fail(e.to_string()))?;
         if reader.format().is_none() {
             match extension.and_then(image::ImageFormat::from_extension) {
                 Some(f) => reader.set_format(f),

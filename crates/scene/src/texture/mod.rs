@@ -22,8 +22,8 @@ mod binding;
 mod decode;
 mod sample;
 
-pub use binding::TextureRef;
 pub(crate) use binding::untexture_where_no_uvs;
+pub use binding::TextureRef;
 pub use decode::{srgb_to_linear, ColorSpace, TextureError, MAX_TEXELS};
 pub use sample::{Filter, TextureSampler, Wrap};
 

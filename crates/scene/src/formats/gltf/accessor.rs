@@ -45,7 +45,9 @@ pub(super) fn read_primitive(prim: &gltf::Primitive, buffers: &[Vec<u8>]) -> Res
         None => None,
     };
     let uvs: Option<Vec<[f32; 2]>> = match uv {
-        Some(_) => Some(reader.read_tex_coords(0).ok_or("TEXCOORD_0 has no data")?.into_f32().map(|[u, v]| [u, 1.0 - v]).collect()),
+        Some(_) => Some(
+            reader.read_tex_coords(0).ok_or("TEXCOORD_0 has no data")?.into_f32().map(|[u, v]| [u, 1.0 - v]).collect(),
+        ),
         None => None,
     };
     let corners: Vec<u32> = match prim.indices() {
@@ -76,7 +78,12 @@ pub(super) fn triangles(mode: Mode, c: &[u32]) -> Result<Vec<[u32; 3]>, String> 
 
 /// Checks that reading `acc` stays inside its data and has the expected layout (plain,
 /// not normalised, values).
-fn check_accessor(acc: &gltf::Accessor, dims: Dimensions, types: &[DataType], buffers: &[Vec<u8>]) -> Result<(), String> {
+fn check_accessor(
+    acc: &gltf::Accessor,
+    dims: Dimensions,
+    types: &[DataType],
+    buffers: &[Vec<u8>],
+) -> Result<(), String> {
     check_accessor_with(acc, dims, types, false, buffers)
 }
 

@@ -56,7 +56,8 @@ pub(super) fn attach_textures(
     for m in document.materials().filter(|m| m.index().is_some_and(|i| used[i])) {
         let Some(i) = m.index() else { continue };
         let Some(info) = m.pbr_metallic_roughness().base_color_texture() else { continue };
-        let label = format!("material {i} `{}`: base colour texture {}", m.name().unwrap_or(""), info.texture().index());
+        let label =
+            format!("material {i} `{}`: base colour texture {}", m.name().unwrap_or(""), info.texture().index());
         let set = info.texture_transform().and_then(|t| t.tex_coord()).unwrap_or(info.tex_coord());
         if set != 0 {
             warnings.push(Warning::new(

@@ -119,7 +119,8 @@ pub fn load(path: &Path) -> Result<LoadReport, LoadError> {
         let mut materials = Vec::new();
         for prim in mesh.primitives() {
             let label = format!("mesh {} primitive {}", mesh.index(), prim.index());
-            let Some(part) = accessor::read_primitive(&prim, &buffers).map_err(|m| perr(format!("{label}: {m}")))? else {
+            let Some(part) = accessor::read_primitive(&prim, &buffers).map_err(|m| perr(format!("{label}: {m}")))?
+            else {
                 warnings.push(Warning::new(
                     path,
                     None,

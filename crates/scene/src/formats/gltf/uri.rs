@@ -67,7 +67,11 @@ pub(super) fn check_regular_file(file: &Path) -> Result<(), String> {
 
 /// Every buffer of `document`, in order: URIs read, the binary chunk for the one that
 /// names it. Each must hold at least its declared `byteLength`.
-pub(super) fn read_buffers(document: &gltf::Document, base: &Path, blob: Option<Vec<u8>>) -> Result<Vec<Vec<u8>>, String> {
+pub(super) fn read_buffers(
+    document: &gltf::Document,
+    base: &Path,
+    blob: Option<Vec<u8>>,
+) -> Result<Vec<Vec<u8>>, String> {
     let mut blob = blob;
     let mut out = Vec::with_capacity(document.buffers().len());
     for buffer in document.buffers() {
