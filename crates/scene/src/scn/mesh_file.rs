@@ -11,13 +11,22 @@ use std::sync::Arc;
 /// A mesh file read as parts: (world-space mesh, material from the file).
 pub(crate) type Parts = Vec<(TriangleMesh, Option<Material>)>;
 
+/// What [`load_mesh_file`] brings back.
+pub(crate) struct MeshFile {
+    pub parts: Parts,
+    /// The textures the parts' materials name, by index into this list.
+    pub textures: Vec<Arc<Texture>>,
+    /// The loader's warnings, naming the mesh file.
+    pub warnings: Vec<Warning>,
+}
+
 /// Reads a mesh file as parts: one part per actor and material, triangles in file order
 /// within each part, in the file's own world space (a glTF node's matrix is applied
 /// here, since the scene file's transform composes with it). Lights and cameras of the
 /// file are not taken: the scene file places its own. The loader's warnings (a missing
 /// `.mtl`, say) come back with the parts, naming the mesh file, for the scene's report,
 /// and so do the textures its materials name (by index into that list).
-pub(crate) fn load_mesh_file(path: &Path) -> Result<(Parts, Vec<Arc<Texture>>, Vec<Warning>), LoadError> {
+pub(crate) fn load_mesh_file(path: &Path) -> Result<MeshFile, LoadError> {
     if FileFormat::of(path) == Some(FileFormat::Scn) {
         return Err(LoadError::parse(path, None, "a scene file is not a mesh: use `include` to read it"));
     }
@@ -44,5 +53,5 @@ pub(crate) fn load_mesh_file(path: &Path) -> Result<(Parts, Vec<Arc<Texture>>, V
             parts.push((mesh, material(id)));
         }
     }
-    Ok((parts, scene.textures, report.warnings))
+    Ok(MeshFile { parts, textures: scene.textures, warnings: report.warnings })
 }

@@ -6,7 +6,7 @@
 //! (centre, radius) until the whole file is read, so that `settings { sphere_detail }`
 //! applies to every sphere wherever it is written; see `build.rs`.
 
-use super::mesh_file::load_mesh_file;
+use super::mesh_file::{load_mesh_file, MeshFile};
 use super::parser::{Def, Parser, Span, R};
 use super::textures::shifted;
 use crate::shapes::cuboid;
@@ -171,7 +171,7 @@ impl Parser<'_> {
                     "file" => {
                         let (rel, s) = p.string("a quoted file name")?;
                         let path = p.dir.join(&rel);
-                        let (mut parts, textures, warnings) = load_mesh_file(&path).map_err(|e| {
+                        let MeshFile { mut parts, textures, warnings } = load_mesh_file(&path).map_err(|e| {
                             p.err(s, format!("cannot load mesh file `{rel}`")).label("this file").note(e.to_string())
                         })?;
                         p.st.warnings.extend(warnings);

@@ -19,7 +19,7 @@
 //!   meshes keep their bind pose, placed by their node hierarchy (for CesiumMan this is
 //!   the upright bind pose). Animation is a separate concern.
 //! - Materials (`material.rs`): `baseColorFactor` RGB becomes the colour of a
-//!   [`Finish::default`] material; with `alphaMode: BLEND` its alpha gives
+//!   [`crate::Finish::default`] material; with `alphaMode: BLEND` its alpha gives
 //!   `transparency = 1 - alpha`. The `baseColorTexture` (sRGB) multiplies that colour, as
 //!   glTF's base colour is `factor × texture`: it becomes the material's
 //!   [`Material::diffuse_texture`], with the texture's sampler (`wrapS`/`wrapT`; `NEAREST`
