@@ -429,3 +429,15 @@ fn scn_texture_given_twice_is_an_error() {
     let e = load_file_report(&write(dir.path(), "d.scn", scn.as_bytes())).unwrap_err().to_string();
     assert!(e.contains("duplicated parameter `texture`"), "{e}");
 }
+
+#[test]
+fn gltf_images_without_a_source_or_mime_type_warn_instead_of_panicking() {
+    let dir = tempfile::tempdir().unwrap();
+    for (image, why) in [("{}", "neither a uri nor a bufferView"), (r#"{"bufferView":1}"#, "no mimeType")] {
+        let p = textured_gltf(dir.path(), "bad.gltf", &material_json(image, "{}", ""), &[]);
+        let r = load(&p);
+        assert_eq!(r.warnings.len(), 1, "{:?}", r.warnings);
+        assert!(r.warnings[0].message.contains(why), "{}", r.warnings[0]);
+        assert!(r.scene.materials[0].diffuse_texture.is_none());
+    }
+}

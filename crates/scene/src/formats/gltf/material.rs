@@ -28,13 +28,16 @@ pub(super) struct Images<'a> {
     /// Its directory, for relative URIs.
     pub base: &'a Path,
     pub buffers: &'a [Vec<u8>],
+    /// Per glTF image, why it cannot be read (found in the JSON before gltf would
+    /// unwrap on it), or `None`.
+    problems: Vec<Option<&'static str>>,
     /// glTF image index -> texture index in the scene (`None`: failed, warned once).
     decoded: HashMap<usize, Option<u32>>,
 }
 
 impl<'a> Images<'a> {
-    pub fn new(path: &'a Path, base: &'a Path, buffers: &'a [Vec<u8>]) -> Self {
-        Self { path, base, buffers, decoded: HashMap::new() }
+    pub fn new(path: &'a Path, base: &'a Path, buffers: &'a [Vec<u8>], problems: Vec<Option<&'static str>>) -> Self {
+        Self { path, base, buffers, problems, decoded: HashMap::new() }
     }
 }
 
@@ -121,6 +124,9 @@ fn image_texture(
 /// Reads and decodes one glTF image (sRGB: it is a base colour).
 fn decode_image(image: &gltf::Image, images: &Images) -> Result<Texture, String> {
     let embedded = format!("{} image {}", images.path.display(), image.index());
+    if let Some(problem) = images.problems.get(image.index()).copied().flatten() {
+        return Err(format!("{embedded} {problem}"));
+    }
     match image.source() {
         gltf::image::Source::View { view, mime_type } => {
             let bytes = uri::view_bytes(&view, images.buffers).map_err(|m| format!("{embedded}: {m}"))?;

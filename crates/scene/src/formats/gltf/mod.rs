@@ -72,6 +72,17 @@ pub fn load(path: &Path) -> Result<LoadReport, LoadError> {
             }
         }
     }
+    // gltf 1.4's `Image::source` unwraps a missing `uri` or `mimeType`; note such images
+    // here so that a material using one warns instead.
+    let image_problems: Vec<Option<&'static str>> = json
+        .images
+        .iter()
+        .map(|im| match (&im.buffer_view, &im.mime_type, &im.uri) {
+            (Some(_), None, _) => Some("has a bufferView but no mimeType"),
+            (None, _, None) => Some("has neither a uri nor a bufferView"),
+            _ => None,
+        })
+        .collect();
     let document = gltf::Document::from_json(json).map_err(|e| perr(format!("glTF: {e}")))?;
     let base = path.parent().unwrap_or(Path::new(""));
     let buffers = uri::read_buffers(&document, base, blob).map_err(|m| perr(format!("glTF {m}")))?;
@@ -154,7 +165,12 @@ pub fn load(path: &Path) -> Result<LoadReport, LoadError> {
     if scene.actors.is_empty() {
         return Err(LoadError::Mesh { path: path.to_path_buf(), source: MeshError::Empty });
     }
-    material::attach_textures(&mut scene, &document, &mut material::Images::new(path, base, &buffers), &mut warnings);
+    material::attach_textures(
+        &mut scene,
+        &document,
+        &mut material::Images::new(path, base, &buffers, image_problems),
+        &mut warnings,
+    );
     untexture_where_no_uvs(&mut scene, path, &mut warnings);
     scene.add_default_light();
     Ok(LoadReport { scene, warnings })
