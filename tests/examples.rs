@@ -29,7 +29,8 @@ const HEIGHT: u32 = 120;
 
 /// Examples that must exist (so the loop below cannot pass by finding nothing), with
 /// whether each is a full scene (rendered) or an include-only file.
-const KNOWN: &[(&str, bool)] = &[("whitted", true), ("seed_examples", true), ("bunny", true), ("materials", false)];
+const KNOWN: &[(&str, bool)] =
+    &[("whitted", true), ("seed_examples", true), ("bunny", true), ("materials", false), ("textured", true)];
 
 /// Every `examples/*.scn`, sorted by name.
 fn example_files() -> Vec<PathBuf> {
@@ -99,6 +100,9 @@ fn every_full_example_matches_its_golden_image() {
         if name == "whitted" {
             // The mirror and the glass sphere.
             assert!(stats.secondary_rays > 0, "{name}: no reflection or refraction: {stats:?}");
+        }
+        if name == "textured" {
+            assert_eq!(scene.textures.len(), 1, "{name}: letter_f.png should load");
         }
         if let Err(e) = check_golden(&film, &format!("{name}_{WIDTH}x{HEIGHT}.png")) {
             failures.push(e);

@@ -21,6 +21,13 @@ pub fn run(a: InfoArgs) -> Result<()> {
     writeln!(out, "vertices    {}", thousands(mesh.vertex_count()))?;
     writeln!(out, "triangles   {}", thousands(mesh.triangle_count()))?;
     writeln!(out, "materials   {}", thousands(frame.materials.len()))?;
+    let texel_bytes: usize = frame.textures.iter().map(|t| t.memory_bytes()).sum();
+    match frame.textures.len() {
+        0 => writeln!(out, "textures    0")?,
+        n => {
+            writeln!(out, "textures    {} ({:.1} MiB of texels)", thousands(n), texel_bytes as f64 / (1 << 20) as f64)?
+        }
+    }
     writeln!(out, "lights      {}", thousands(frame.lights.len()))?;
     writeln!(out, "normals     {}", if mesh.normals.is_some() { "per vertex" } else { "geometric" })?;
     writeln!(

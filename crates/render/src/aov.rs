@@ -21,7 +21,8 @@ pub enum Aov {
     /// The index of the triangle hit (in the frame's mesh order), `-1` on a miss.
     /// Stored as `f32`: exact for indices below 2^24 (16.7 million triangles).
     Prim,
-    /// The surface's diffuse reflectance (its base colour); zero on a miss.
+    /// The surface's diffuse reflectance (its base colour: the material's diffuse
+    /// colour times its texture); zero on a miss.
     Albedo,
 }
 
@@ -97,7 +98,7 @@ impl Integrator for AovIntegrator<'_> {
             (Aov::Prim, Some(h)) => Color::splat(h.at.prim as f32),
             (Aov::Prim, None) => Color::splat(-1.0),
             (Aov::Normal, Some(h)) => h.ns,
-            (Aov::Albedo, Some(h)) => h.material.diffuse,
+            (Aov::Albedo, Some(h)) => h.diffuse(),
             (Aov::Normal | Aov::Albedo, None) => Color::ZERO,
         }
     }

@@ -102,6 +102,7 @@ mod tests {
             ng,
             ns,
             uv: Vec2::ZERO,
+            texel: dynray_scene::Color::ONE,
             material: m,
             at: GeometryRef { geometry: 0, instance: 0, prim: 0 },
         }

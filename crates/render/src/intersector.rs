@@ -9,7 +9,7 @@
 use crate::{GeometryRef, SurfaceHit};
 use dynray_accel::Accel;
 use dynray_geom::{Aabb, Hit, Ray, Vec2, Vec3};
-use dynray_scene::{Frame, Material};
+use dynray_scene::{Color, Frame, Material};
 
 /// Something rays can hit, with its own primitive numbering.
 pub trait Geometry: Sync {
@@ -124,27 +124,27 @@ impl Geometry for TriangleGeometry<'_> {
             let s = n(i0)? * w + n(i1)? * u + n(i2)? * v;
             (s.is_finite() && s.length_squared() > 1e-12).then(|| s.normalize())
         });
-        let uv = mesh
-            .uvs
-            .as_ref()
-            .and_then(|t| {
-                let c = |i: u32| t.get(i as usize).map(|c| Vec2::from_array(*c));
-                Some(c(i0)? * w + c(i1)? * u + c(i2)? * v)
-            })
-            .unwrap_or(Vec2::new(u, v));
+        let texcoords = mesh.uvs.as_ref().and_then(|t| {
+            let c = |i: u32| t.get(i as usize).map(|c| Vec2::from_array(*c));
+            Some(c(i0)? * w + c(i1)? * u + c(i2)? * v)
+        });
         let material = self
             .frame
             .materials_of
             .get(prim)
             .and_then(|&m| self.frame.materials.get(m as usize))
             .unwrap_or(&self.fallback);
+        // Without texture coordinates there is nothing to look a texture up with (the
+        // barycentrics would stretch it over each triangle): untextured.
+        let texel = texcoords.map_or(Color::ONE, |uv| material.diffuse_texel(&self.frame.textures, uv));
         Some(SurfaceHit {
             t: hit.t,
             p,
             ng,
             ns: interpolated.unwrap_or(ng),
-            uv,
+            uv: texcoords.unwrap_or(Vec2::new(u, v)),
             material,
+            texel,
             at: GeometryRef { geometry, instance: 0, prim: hit.prim },
         })
     }

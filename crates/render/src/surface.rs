@@ -2,7 +2,7 @@
 //! kind of geometry was hit, so that no integrator reads mesh arrays.
 
 use dynray_geom::{Vec2, Vec3};
-use dynray_scene::Material;
+use dynray_scene::{Color, Material};
 
 /// Which piece of the scene a hit is on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -34,6 +34,25 @@ pub struct SurfaceHit<'a> {
     pub uv: Vec2,
     /// The material at the hit.
     pub material: &'a Material,
+    /// The material's diffuse texture at the hit (linear RGB), white where it has none
+    /// or the geometry has no texture coordinates; the geometry resolves it (with
+    /// [`Material::diffuse_texel`]) so shading never reads textures or mesh arrays.
+    /// Shade with [`SurfaceHit::diffuse`] and [`SurfaceHit::ambient`].
+    pub texel: Color,
     /// Which geometry, instance and primitive.
     pub at: GeometryRef,
+}
+
+impl SurfaceHit<'_> {
+    /// Lambertian reflectance at the hit: the material's diffuse colour times its
+    /// texture. Every integrator and the `albedo` AOV read the base colour here.
+    pub fn diffuse(&self) -> Color {
+        self.material.diffuse * self.texel
+    }
+
+    /// Reflectance for ambient light at the hit: the material's ambient colour times its
+    /// texture (a textured surface is textured in shadow too).
+    pub fn ambient(&self) -> Color {
+        self.material.ambient * self.texel
+    }
 }

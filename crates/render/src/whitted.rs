@@ -106,7 +106,8 @@ impl<'a> Whitted<'a> {
         let d = ray.dir.normalize_or_zero();
         let view = -d;
         let eps = self.eps(p);
-        let mut c = m.ambient * env.ambient;
+        let (diffuse, ambient) = (s.hit.diffuse(), s.hit.ambient());
+        let mut c = ambient * env.ambient;
 
         for light in &self.frame.lights {
             let (l, tmax, att) = match light.kind {
@@ -140,7 +141,7 @@ impl<'a> Whitted<'a> {
             let r = ns * (2.0 * ndl) - l;
             let highlight =
                 if m.spot == Color::ZERO { Color::ZERO } else { m.spot * r.dot(view).max(0.0).powf(m.shine) };
-            c += light.color * through * att * (m.diffuse * ndl + highlight);
+            c += light.color * through * att * (diffuse * ndl + highlight);
         }
 
         if level >= self.max_level {

@@ -53,6 +53,7 @@ impl Geometry for Sphere {
             ns: n,
             uv,
             material: &self.material,
+            texel: Color::ONE,
             at: GeometryRef { geometry, instance: 0, prim: 0 },
         })
     }
@@ -135,6 +136,7 @@ fn equal_distances_go_to_the_lower_geometry_index() {
                 ns: Vec3::Z,
                 uv: Vec2::ZERO,
                 material: &self.0,
+                texel: Color::ONE,
                 at: GeometryRef { geometry, instance: 0, prim: hit.prim },
             })
         }

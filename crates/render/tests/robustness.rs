@@ -24,6 +24,7 @@ fn nan_materials_lights_and_settings_give_no_nan_pixels() {
         specular: Color::new(0.5, f32::NAN, 0.0),
         transparency: Color::splat(0.5),
         ior: f32::NAN,
+        diffuse_texture: None,
     };
     let mut f = frame(
         vec![

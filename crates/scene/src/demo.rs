@@ -34,6 +34,7 @@ pub fn demo_scene_with(sphere_detail: u32) -> Scene {
         specular: Color::ZERO,
         transparency: Color::ZERO,
         ior: 1.0,
+        diffuse_texture: None,
     };
     let cream = material(matte("cream", Color::new(0.85, 0.82, 0.72), 1.0));
     let terracotta =

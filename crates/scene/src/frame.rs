@@ -8,9 +8,10 @@
 //! a [`crate::Motion::Dynamic`] actor will get its transform, or its deformed local
 //! vertices, for `t` there, without changing its triangle count or order.
 
-use crate::{Camera, Environment, Light, Material, Projection, Scene, Settings};
+use crate::{Camera, Environment, Light, Material, Projection, Scene, Settings, Texture};
 use dynray_geom::{TriangleMesh, Vec3};
 use std::ops::Range;
+use std::sync::Arc;
 
 /// One time step of a scene, flattened for the acceleration structures and integrators.
 #[derive(Clone, Debug, PartialEq)]
@@ -22,6 +23,8 @@ pub struct Frame {
     pub materials_of: Vec<u32>,
     /// Materials.
     pub materials: Vec<Material>,
+    /// The scene's textures (shared pointers: filling a frame copies no texels).
+    pub textures: Vec<Arc<Texture>>,
     /// Lights.
     pub lights: Vec<Light>,
     /// The camera (resolved: never absent).
@@ -47,6 +50,7 @@ impl Default for Frame {
             mesh: TriangleMesh::default(),
             materials_of: Vec::new(),
             materials: Vec::new(),
+            textures: Vec::new(),
             lights: Vec::new(),
             camera: Camera {
                 position: Vec3::Z,
@@ -87,7 +91,10 @@ impl Scene {
     /// scene is filled again without allocating. Triangle and vertex order is the same
     /// for every `t` (module docs). Actors without vertex normals get zero normals when
     /// another actor has some: shading reads a zero normal as "use the triangle's
-    /// geometric normal" (seed 003 §3.1), so one mesh can mix both.
+    /// geometric normal" (seed 003 §3.1), so one mesh can mix both. Likewise actors
+    /// without texture coordinates get `(0, 0)` uvs when another actor has some (the
+    /// frame once dropped every actor's uvs then, and with them a textured mesh's
+    /// texture); loaders give such actors untextured materials, so nothing samples them.
     pub fn frame_into(&self, t: f32, frame: &mut Frame) {
         let Frame { mesh, materials_of, actor_ranges, .. } = frame;
         mesh.positions.clear();
@@ -95,7 +102,7 @@ impl Scene {
         materials_of.clear();
         actor_ranges.clear();
         let any_normals = self.actors.iter().any(|a| a.mesh.normals.is_some());
-        let keep_uvs = uvs_survive(self);
+        let any_uvs = self.actors.iter().any(|a| a.mesh.uvs.is_some());
         let mut normals = mesh.normals.take().unwrap_or_default();
         normals.clear();
         let mut uvs = mesh.uvs.take().unwrap_or_default();
@@ -124,40 +131,25 @@ impl Scene {
                     None => normals.resize(normals.len() + a.mesh.vertex_count(), [0.0; 3]),
                 }
             }
-            if keep_uvs {
-                // Actors without uvs have no vertices here (see `uvs_survive`).
-                uvs.extend_from_slice(a.mesh.uvs.as_deref().unwrap_or_default());
+            if any_uvs {
+                match &a.mesh.uvs {
+                    Some(t) => uvs.extend_from_slice(t),
+                    None => uvs.resize(uvs.len() + a.mesh.vertex_count(), [0.0; 2]),
+                }
             }
             actor_ranges.push(first..mesh.indices.len() as u32);
         }
         mesh.normals = any_normals.then_some(normals);
-        mesh.uvs = keep_uvs.then_some(uvs);
+        mesh.uvs = any_uvs.then_some(uvs);
         frame.materials.clone_from(&self.materials);
         if frame.materials.is_empty() {
             frame.materials.push(Material::default());
         }
+        frame.textures.clone_from(&self.textures);
         frame.lights.clone_from(&self.lights);
         frame.camera = self.camera.unwrap_or_else(|| Camera::framing(&frame.mesh.bounds()));
         frame.settings = self.settings;
         frame.environment = self.environment;
         frame.time = t;
     }
-}
-
-/// Whether the frame keeps texture coordinates. The frame once concatenated actors with
-/// [`TriangleMesh::append`], which keeps uvs only while every mesh appended after the
-/// first vertex has them; this is that rule, kept so frames stay what they were. In
-/// practice: uvs survive when every actor with vertices has them.
-fn uvs_survive(scene: &Scene) -> bool {
-    let mut keep = false;
-    let mut vertices = 0usize;
-    for a in &scene.actors {
-        keep = match (keep, a.mesh.uvs.is_some()) {
-            (true, true) => true,
-            (false, true) => vertices == 0,
-            (_, false) => false,
-        };
-        vertices += a.mesh.vertex_count();
-    }
-    keep
 }

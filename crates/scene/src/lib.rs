@@ -14,6 +14,7 @@ mod model;
 mod report;
 pub mod scn;
 pub mod shapes;
+pub mod texture;
 mod transform;
 
 pub use actor::{Actor, Motion};
@@ -23,4 +24,5 @@ pub use load::{load_file, load_file_report, load_mesh, FileFormat};
 pub use model::{Camera, Color, Environment, Finish, Light, LightKind, Material, Projection, Scene, Settings};
 pub use report::{LoadReport, Warning};
 pub use scn::{load_scn, load_scn_report, parse_scn_str};
+pub use texture::{Texture, TextureRef};
 pub use transform::Transform;

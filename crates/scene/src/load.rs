@@ -16,7 +16,8 @@
 //! and, without a `camera`, the same default view.
 //!
 //! Problems that do not stop loading (a missing `.mtl` file, an unknown material name, a
-//! glTF point primitive that is skipped, any of these in a mesh file that a `.scn` reads)
+//! glTF point primitive that is skipped, a texture that cannot be read or decoded, any
+//! of these in a mesh file that a `.scn` reads)
 //! are returned as [`Warning`](crate::Warning)s in a [`LoadReport`](crate::LoadReport)
 //! (`report.rs`) by [`load_file_report`]; [`load_file`] drops them. A library does not
 //! print: the caller (the binary) decides whether to show them.

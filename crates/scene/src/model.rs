@@ -2,8 +2,9 @@
 //! render settings and environment. [`Scene::frame_into`] flattens it into a
 //! [`crate::Frame`] (`frame.rs`); actors are in `actor.rs`.
 
-use crate::Actor;
+use crate::{Actor, Texture, TextureRef};
 use dynray_geom::{Aabb, TriangleMesh, Vec3};
+use std::sync::Arc;
 
 /// An RGB colour, linear, components usually in `[0, 1]`.
 pub type Color = Vec3;
@@ -28,6 +29,10 @@ pub struct Material {
     pub transparency: Color,
     /// Index of refraction of the material.
     pub ior: f32,
+    /// A colour texture that multiplies `diffuse` and `ambient` at each point (glTF
+    /// `baseColorTexture`, MTL `map_Kd`, `.scn` `texture`); see
+    /// [`Material::diffuse_texel`].
+    pub diffuse_texture: Option<TextureRef>,
 }
 
 impl Material {
@@ -42,6 +47,7 @@ impl Material {
             specular: Color::ONE * f.specular,
             transparency: Color::ONE * f.transparency,
             ior: f.ior,
+            diffuse_texture: None,
         }
     }
 }
@@ -211,6 +217,9 @@ pub struct Scene {
     pub actors: Vec<Actor>,
     /// Materials referenced by actors.
     pub materials: Vec<Material>,
+    /// Decoded image textures, named by index from [`Material::diffuse_texture`];
+    /// shared (not copied) by every frame.
+    pub textures: Vec<Arc<Texture>>,
     /// Lights.
     pub lights: Vec<Light>,
     /// Camera; `None` frames the scene's bounding box.

@@ -6,9 +6,15 @@ use glam::{EulerRot, Mat4, Quat};
 
 /// A box centred at `center`, with edge lengths `size`, rotated by `rotation_deg`
 /// (degrees about x, then y, then z). 24 vertices with flat face normals, 12 triangles.
+///
+/// Each face carries the whole texture, `(0, 0)` to `(1, 1)`, upright and unmirrored
+/// seen from outside: on the four side faces `v` runs up the box's `+y`; on the top its
+/// `v` runs towards `-z` (the image reads as seen from above with the box's front, `+z`,
+/// at the bottom) and on the bottom towards `+z`.
 pub fn cuboid(center: Vec3, size: Vec3, rotation_deg: Vec3) -> TriangleMesh {
     let mut positions = Vec::with_capacity(24);
     let mut normals = Vec::with_capacity(24);
+    let mut uvs = Vec::with_capacity(24);
     let mut indices = Vec::with_capacity(12);
     for axis in 0..3 {
         for sign in [-1.0f32, 1.0] {
@@ -17,16 +23,22 @@ pub fn cuboid(center: Vec3, size: Vec3, rotation_deg: Vec3) -> TriangleMesh {
             let (u, v) = (Vec3::from(unit((axis + 1) % 3)), Vec3::from(unit((axis + 2) % 3)));
             // Order the quad counter-clockwise seen from outside.
             let (u, v) = if sign > 0.0 { (u, v) } else { (v, u) };
+            // The texture's up and right on this face; right × up = n, so seen from
+            // outside the image is not mirrored.
+            let up = if axis == 1 { Vec3::Z * -sign } else { Vec3::Y };
+            let right = up.cross(n);
             let base = positions.len() as u32;
             for (a, b) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
-                positions.push(((n + u * a + v * b) * 0.5).to_array());
+                let q = (n + u * a + v * b) * 0.5;
+                positions.push(q.to_array());
                 normals.push(n.to_array());
+                uvs.push([q.dot(right) + 0.5, q.dot(up) + 0.5]);
             }
             indices.push([base, base + 1, base + 2]);
             indices.push([base, base + 2, base + 3]);
         }
     }
-    let mut m = TriangleMesh { positions, indices, normals: Some(normals), uvs: None };
+    let mut m = TriangleMesh { positions, indices, normals: Some(normals), uvs: Some(uvs) };
     let r = rotation_deg * (std::f32::consts::PI / 180.0);
     let rot = Quat::from_euler(EulerRot::ZYX, r.z, r.y, r.x);
     m.transform(&Mat4::from_scale_rotation_translation(size, rot, center));
@@ -198,5 +210,30 @@ mod tests {
         let m = cuboid(Vec3::ZERO, Vec3::new(2.0, 1.0, 1.0), Vec3::new(0.0, 90.0, 0.0));
         let e = m.bounds().extent();
         assert!((e - Vec3::new(1.0, 1.0, 2.0)).abs().max_element() < 1e-5, "{e}");
+    }
+
+    #[test]
+    fn cuboid_faces_carry_the_texture_upright_and_unmirrored() {
+        let m = cuboid(Vec3::ZERO, Vec3::ONE, Vec3::ZERO);
+        let uvs = m.uvs.as_ref().expect("boxes have uvs");
+        for t in &m.indices {
+            let p = t.map(|i| Vec3::from_array(m.positions[i as usize]));
+            let uv = t.map(|i| glam::Vec2::from_array(uvs[i as usize]));
+            let n = (p[1] - p[0]).cross(p[2] - p[0]);
+            // Counter-clockwise in space and in uv alike: not mirrored.
+            let uv_area = (uv[1] - uv[0]).perp_dot(uv[2] - uv[0]);
+            assert!(uv_area > 0.0, "triangle {t:?} is mirrored in uv");
+            for k in 0..3 {
+                assert!(uv[k].min_element() >= 0.0 && uv[k].max_element() <= 1.0);
+                // On side faces v grows with y; on the top, towards -z.
+                let up = if n.y.abs() > 0.5 { Vec3::Z * -n.y.signum() } else { Vec3::Y };
+                assert!((uv[k].y - (p[k].dot(up) + 0.5)).abs() < 1e-6, "{t:?}");
+            }
+        }
+        // The front face (+z): (0, 0) at its bottom-left corner seen from the front.
+        let normals = m.normals.as_ref().unwrap();
+        let corner = |p: &[f32; 3]| p[0] < -0.4 && p[1] < -0.4 && p[2] > 0.4;
+        let front = (0..24).find(|&i| corner(&m.positions[i]) && normals[i] == [0.0, 0.0, 1.0]).unwrap();
+        assert_eq!(uvs[front], [0.0, 0.0]);
     }
 }

@@ -25,12 +25,14 @@ fn examples() -> Vec<PathBuf> {
 /// The flattened mesh as the scene model used to produce it: each actor's mesh baked
 /// into world space with `TriangleMesh::transform` (as `scn/build.rs` and the glTF loader
 /// did, skipping `Transform::IDENTITY` as the builder skipped identity matrices), then
-/// concatenated with `TriangleMesh::append`, normals filled with zeros where an actor has
-/// none and another has some.
+/// concatenated with `TriangleMesh::append`, normals and uvs filled with zeros where an
+/// actor has none and another has some.
 fn baked_reference(s: &Scene) -> TriangleMesh {
     let mut mesh = TriangleMesh::default();
     let any_normals = s.actors.iter().any(|a| a.mesh.normals.is_some());
+    let any_uvs = s.actors.iter().any(|a| a.mesh.uvs.is_some());
     let mut normals = Vec::new();
+    let mut uvs = Vec::new();
     for a in &s.actors {
         let mut m = a.mesh.clone();
         if !a.transform.is_identity() {
@@ -43,8 +45,15 @@ fn baked_reference(s: &Scene) -> TriangleMesh {
                 None => normals.resize(normals.len() + m.vertex_count(), [0.0; 3]),
             }
         }
+        if any_uvs {
+            match &m.uvs {
+                Some(t) => uvs.extend_from_slice(t),
+                None => uvs.resize(uvs.len() + m.vertex_count(), [0.0; 2]),
+            }
+        }
     }
     mesh.normals = any_normals.then_some(normals);
+    mesh.uvs = any_uvs.then_some(uvs);
     mesh
 }
 
@@ -195,4 +204,20 @@ fn world_bounds_follow_the_transform() {
     let f = s.frame(0.0);
     assert_eq!(s.bounds(), f.mesh.bounds(), "Scene::bounds is the frame's");
     assert_eq!(s.actors[1].bounds(), s.actors[1].world_mesh().bounds());
+}
+
+#[test]
+fn uvs_of_one_actor_survive_an_actor_without_them_and_textures_are_shared() {
+    // Regression: the frame once dropped every uv when one actor had none, and with
+    // them the texture of a textured mesh placed beside a box or sphere.
+    let mut s = two_actors();
+    s.actors[1].mesh.uvs = Some(vec![[0.25, 0.5], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]]);
+    let texel = dynray_scene::Texture::from_linear("t", 1, 1, vec![Vec3::ONE]).unwrap();
+    s.textures.push(std::sync::Arc::new(texel));
+    let f = s.frame(0.0);
+    let uvs = f.mesh.uvs.as_ref().expect("uvs kept");
+    assert_eq!(uvs[..3], [[0.0, 0.0]; 3], "actor a has none: zeros");
+    assert_eq!(uvs[3], [0.25, 0.5], "actor b's own");
+    assert_eq!(f.textures.len(), 1);
+    assert!(std::sync::Arc::ptr_eq(&f.textures[0], &s.textures[0]), "a frame shares texels, never copies");
 }

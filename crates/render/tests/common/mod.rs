@@ -17,6 +17,7 @@ pub fn black() -> Material {
         specular: Color::ZERO,
         transparency: Color::ZERO,
         ior: 1.0,
+        diffuse_texture: None,
     }
 }
 

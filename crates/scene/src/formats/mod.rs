@@ -9,7 +9,6 @@
 //! then reference it through `mesh { file "…" }` without further work.
 
 pub mod gltf;
-mod gltf_lights;
 pub(crate) mod mtl;
 pub mod npz;
 pub mod obj;

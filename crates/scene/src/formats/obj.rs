@@ -35,11 +35,24 @@
 //! | `d` / `Tr` | `transparency` = `1 - d`, or `Tr` when there is no `d` | 0 |
 //! | `Ni` | `ior` | 1 |
 //! | `Ke` | `ambient` = `Ke / environment ambient`, plus a point light (see Emitters) | no emission |
+//! | `map_Kd` | `diffuse_texture`: multiplies `diffuse` and `ambient` (see Textures) | untextured |
 //!
 //! A colour may be one number (grey) or three; `spectral`/`xyz` colours are ignored with a
-//! warning, as are texture maps, `Tf` and `sharpness` (silently). A malformed MTL is an
-//! error naming the `.mtl` file and line. A missing library, or a `usemtl` naming no known
-//! material, is a [`Warning`]; those faces get [`Material::default`].
+//! warning. The other texture maps (`map_Ks`, `map_Bump`, `bump`, …) are not used, which
+//! one warning per library says; `Tf` and `sharpness` are ignored silently. A malformed
+//! MTL is an error naming the `.mtl` file and line. A missing library, or a `usemtl`
+//! naming no known material, is a [`Warning`]; those faces get [`Material::default`].
+//!
+//! # Textures
+//! `map_Kd file` names an image (PNG, JPEG, PPM/PNM, BMP) relative to the `.mtl` file
+//! (a name with `\` separators that does not exist is retried with `/`), decoded as sRGB
+//! and only for materials some face uses, each file once. Options: `-o u v` and
+//! `-s u v` give the uv transform `uv × s + o`, `-clamp on` clamps instead of
+//! repeating; every other option is skipped with a warning. OBJ's `vt` convention,
+//! `(0, 0)` at the image's bottom-left and `v` up, is dynray's, so uvs are kept as
+//! written. A texture that cannot be read or decoded is a [`Warning`] naming the image,
+//! the `.mtl` and its line, and the material renders untextured. A textured material on
+//! faces without `vt` is rendered untextured there, with a warning.
 //!
 //! # Emitters
 //! A material with a non-black `Ke` is an area light. dynray has no area lights in the
@@ -56,6 +69,7 @@
 
 use super::mtl::{self, MtlMaterial};
 use crate::report::{LoadReport, Warning};
+use crate::texture::untexture_where_no_uvs;
 use crate::{Actor, Color, Light, LightKind, LoadError, Material, Scene};
 use dynray_geom::{MeshError, TriangleMesh, Vec3};
 use std::path::Path;
@@ -145,6 +159,8 @@ pub fn load(path: &Path) -> Result<LoadReport, LoadError> {
     if scene.actors.is_empty() {
         return Err(LoadError::Mesh { path: path.to_path_buf(), source: MeshError::Empty });
     }
+    mtl::attach_textures(&mut scene, &all, &mut warnings);
+    untexture_where_no_uvs(&mut scene, path, &mut warnings);
     let bounds = scene.bounds();
     let nudge = bounds.extent().length() * 1e-3;
     for (actor, ke) in emitters {

@@ -3,7 +3,7 @@
 //! `Parser::block`, so unknown and duplicated parameters are errors everywhere.
 
 use super::parser::{Def, Parser, R};
-use crate::{Camera, Color, Environment, Finish, Light, LightKind, Material, Projection, Settings};
+use crate::{Camera, Color, Environment, Finish, Light, LightKind, Material, Projection, Settings, TextureRef};
 use glam::Vec3;
 use std::rc::Rc;
 
@@ -203,8 +203,8 @@ impl Parser<'_> {
         Ok(s)
     }
 
-    /// `material { color C [finish { … }] }` or `material name`; the keyword is already
-    /// consumed. `color × finish` follows [`Material::from_finish`].
+    /// `material { color C [finish { … }] [texture "file"] }` or `material name`; the
+    /// keyword is already consumed. `color × finish` follows [`Material::from_finish`].
     pub(crate) fn material(&mut self) -> R<Rc<Material>> {
         if let Some(named) = self.named("a material", |d| match d {
             Def::Material(m) => Some(m.clone()),
@@ -214,16 +214,21 @@ impl Parser<'_> {
         }
         let mut color = None;
         let mut finish = Finish::default();
-        let block = self.block("material", &["color", "finish"], &[], |p, key, span| {
+        let mut texture = None;
+        let block = self.block("material", &["color", "finish", "texture"], &[], |p, key, span| {
             match key {
                 "color" => color = Some(p.color("material color")?),
                 "finish" => finish = p.finish()?,
+                "texture" => texture = Some(p.texture_param()?),
                 other => return Err(p.unhandled(span, other, "material")),
             }
             Ok(())
         })?;
         let color = self.required(color, "color", "material", &block)?;
-        Ok(Rc::new(Material::from_finish("", color, &finish)))
+        let mut m = Material::from_finish("", color, &finish);
+        // The texture multiplies the diffuse and ambient colours (docs §5.1).
+        m.diffuse_texture = texture.map(TextureRef::new);
+        Ok(Rc::new(m))
     }
 
     fn finish(&mut self) -> R<Finish> {

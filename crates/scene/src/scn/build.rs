@@ -7,7 +7,7 @@ use super::diag::Diag;
 use super::objects::Shape;
 use super::parser::State;
 use crate::shapes::uv_sphere;
-use crate::{Actor, Material, Motion, Scene, Settings, Transform};
+use crate::{Actor, Material, Motion, Scene, Settings, Transform, Warning};
 use dynray_geom::TriangleMesh;
 use glam::DMat4;
 use std::collections::HashMap;
@@ -35,7 +35,9 @@ pub fn auto_sphere_detail(settings: &Settings) -> u32 {
 }
 
 /// Builds the scene from everything read.
-pub(crate) fn build(st: State) -> Result<Scene, Diag> {
+/// Problems that do not stop it (a texture that cannot be read) go to `warnings`.
+pub(crate) fn build(mut st: State, warnings: &mut Vec<Warning>) -> Result<Scene, Diag> {
+    let textures = std::mem::take(&mut st.textures);
     let settings = st.settings.as_ref().map(|s| s.0).unwrap_or_default();
     let slices = st.sphere_detail.unwrap_or_else(|| auto_sphere_detail(&settings));
     let mut scene = Scene {
@@ -103,5 +105,6 @@ pub(crate) fn build(st: State) -> Result<Scene, Diag> {
         }
         scene.actors.push(actor);
     }
+    super::textures::resolve(&mut scene, textures, warnings);
     Ok(scene)
 }

@@ -35,6 +35,16 @@ impl Sources {
         self.paths.get(id).cloned().unwrap_or_default()
     }
 
+    /// How diagnostics name a file.
+    pub(crate) fn name(&self, id: FileId) -> String {
+        self.files.name(id).map(|n| n.to_string()).unwrap_or_default()
+    }
+
+    /// The 1-based line of a byte offset (1 if the offset is out of range).
+    pub(crate) fn line(&self, id: FileId, offset: usize) -> usize {
+        self.files.location(id, offset).map_or(1, |l| l.line_number)
+    }
+
     /// `name:line:col` of a byte offset, for notes that mention another place.
     pub(crate) fn place(&self, id: FileId, offset: usize) -> String {
         let name = self.files.name(id).map(|n| n.to_string()).unwrap_or_default();

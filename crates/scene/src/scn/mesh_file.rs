@@ -5,20 +5,23 @@
 //! come with the parts, placed like them; the default light of a bare mesh file does not.
 
 use crate::load::{load_own, FileFormat};
-use crate::{Light, LoadError, Material, Warning};
+use crate::{Light, LoadError, Material, Texture, Warning};
 use dynray_geom::TriangleMesh;
 use std::path::Path;
+use std::sync::Arc;
 
 /// A mesh file read as parts: (world-space mesh, material from the file).
 pub(crate) type Parts = Vec<(TriangleMesh, Option<Material>)>;
 
-/// What a mesh file gives a scene file: its parts, its own lights, and the loader's
-/// warnings.
+/// What a mesh file gives a scene file: its parts, its own lights, the textures its
+/// materials name, and the loader's warnings.
 pub(crate) struct MeshFile {
     /// One part per actor and material.
     pub parts: Parts,
     /// The lights the file holds (emitters, punctual lights), in the file's world space.
     pub lights: Vec<Light>,
+    /// The textures the parts' materials name, by index into this list.
+    pub textures: Vec<Arc<Texture>>,
     /// Problems the loader survived (a missing `.mtl`, say), naming the mesh file.
     pub warnings: Vec<Warning>,
 }
@@ -26,7 +29,8 @@ pub(crate) struct MeshFile {
 /// Reads a mesh file as parts: one part per actor and material, triangles in file order
 /// within each part, in the file's own world space (a glTF node's matrix is applied
 /// here, since the scene file's transform composes with it), with the lights the file
-/// holds. Its camera is not taken: the scene file places its own.
+/// holds and the textures its materials name. Its camera is not taken: the scene file
+/// places its own.
 pub(crate) fn load_mesh_file(path: &Path) -> Result<MeshFile, LoadError> {
     if FileFormat::of(path) == Some(FileFormat::Scn) {
         return Err(LoadError::parse(path, None, "a scene file is not a mesh: use `include` to read it"));
@@ -55,5 +59,5 @@ pub(crate) fn load_mesh_file(path: &Path) -> Result<MeshFile, LoadError> {
             parts.push((mesh, material(id)));
         }
     }
-    Ok(MeshFile { parts, lights, warnings: report.warnings })
+    Ok(MeshFile { parts, lights, textures: scene.textures, warnings: report.warnings })
 }

@@ -16,6 +16,7 @@ mod lexer;
 mod mesh_file;
 mod objects;
 mod parser;
+mod textures;
 mod transform;
 mod value;
 
@@ -88,7 +89,7 @@ fn on_parser_stack<T: Send>(f: impl FnOnce() -> T + Send) -> T {
 
 fn parse(name: String, text: String, dir: &Path, canon: Option<std::path::PathBuf>) -> Result<LoadReport, LoadError> {
     let mut st = State::default();
-    let file = st.sources.add(name.clone(), canon.clone().unwrap_or_else(|| name.into()), text);
+    let file = st.sources.add(name.clone(), canon.clone().unwrap_or_else(|| name.clone().into()), text);
     st.include_stack.extend(canon);
     let result = Parser::new(&mut st, file, dir.to_path_buf()).and_then(|mut p| p.file());
     if let Err(d) = result {
@@ -101,7 +102,8 @@ fn parse(name: String, text: String, dir: &Path, canon: Option<std::path::PathBu
             warnings.push(w);
         }
     }
-    let scene = build::build(st).map_err(|d| d.into_error(&sources))?;
+    let mut scene = build::build(st, &mut warnings).map_err(|d| d.into_error(&sources))?;
+    crate::texture::untexture_where_no_uvs(&mut scene, Path::new(&name), &mut warnings);
     Ok(LoadReport { scene, warnings })
 }
 

@@ -6,8 +6,9 @@
 //! (centre, radius) until the whole file is read, so that `settings { sphere_detail }`
 //! applies to every sphere wherever it is written; see `build.rs`.
 
-use super::mesh_file::{load_mesh_file, MeshFile};
+use super::mesh_file::{load_mesh_file, MeshFile, Parts};
 use super::parser::{Def, Parser, Span, R};
+use super::textures::shifted;
 use crate::shapes::cuboid;
 use crate::{Light, LightKind, Material};
 use dynray_geom::TriangleMesh;
@@ -174,7 +175,7 @@ impl Parser<'_> {
 
     /// `mesh { (file "…" | vertices … [normals …] triangles …) modifiers }`.
     fn mesh(&mut self) -> R<Object> {
-        let mut file: Option<MeshFile> = None;
+        let mut file: Option<(Parts, Vec<Light>)> = None;
         let mut vertices: Option<Vec<Vec3>> = None;
         let mut normals: Option<(Vec<Vec3>, Span)> = None;
         let mut triangles: Option<Vec<Tri>> = None;
@@ -191,11 +192,19 @@ impl Parser<'_> {
                     "file" => {
                         let (rel, s) = p.string("a quoted file name")?;
                         let path = p.dir.join(&rel);
-                        let mut loaded = load_mesh_file(&path).map_err(|e| {
-                            p.err(s, format!("cannot load mesh file `{rel}`")).label("this file").note(e.to_string())
-                        })?;
-                        p.st.warnings.append(&mut loaded.warnings);
-                        file = Some(loaded);
+                        let MeshFile { mut parts, lights, textures, warnings } =
+                            load_mesh_file(&path).map_err(|e| {
+                                p.err(s, format!("cannot load mesh file `{rel}`"))
+                                    .label("this file")
+                                    .note(e.to_string())
+                            })?;
+                        p.st.warnings.extend(warnings);
+                        // The file's materials name its textures; renumber into the scene's.
+                        let base = p.add_decoded_textures(textures);
+                        for m in parts.iter_mut().filter_map(|(_, m)| m.as_mut()) {
+                            m.diffuse_texture = m.diffuse_texture.map(|t| shifted(t, base));
+                        }
+                        file = Some((parts, lights));
                     }
                     "vertices" => vertices = Some(p.vector_list("vertices", "vertex")?),
                     "normals" => {
@@ -208,7 +217,7 @@ impl Parser<'_> {
                 Ok(())
             })?;
         let mut obj = match file {
-            Some(MeshFile { parts, lights, .. }) => {
+            Some((parts, lights)) => {
                 if let (Some((k, s)), Some(f)) = (inline_key, file_key) {
                     return Err(self
                         .err(s, format!("`{k}` cannot be combined with `file` in one `mesh`"))

@@ -6,6 +6,7 @@
 use super::diag::{did_you_mean, Diag, FileId, Sources};
 use super::lexer::{tokenize, Tok, Token};
 use super::objects::Object;
+use super::textures::SceneTexture;
 use super::value::Value;
 use super::{MAX_EXPR_DEPTH, MAX_INCLUDE_DEPTH};
 use crate::{Camera, Environment, Light, Material, Settings, Warning};
@@ -108,6 +109,10 @@ pub(crate) struct State {
     pub include_stack: Vec<PathBuf>,
     /// Warnings of the mesh files read so far, in reading order.
     pub warnings: Vec<Warning>,
+    /// Textures materials name by index (`.scn` `texture` files and mesh files' own).
+    pub textures: Vec<SceneTexture>,
+    /// Index in `textures` of each `.scn` texture file named so far.
+    pub texture_files: HashMap<PathBuf, u32>,
 }
 
 /// Parser of one file.
