@@ -16,6 +16,9 @@
 //! output vertex and which faces each output vertex averages; [`SmoothNormals::compute`]
 //! recomputes the normals from new positions of the same vertices in one linear pass.
 //!
+//! With a crease below 90°, every face a corner averages lies within 90° of the corner's
+//! own, so a generated normal always faces the same side as its triangle.
+//!
 //! Angle weighting, rather than area weighting or a plain mean, makes the normal a
 //! property of the surface and not of how it was triangulated: splitting a face into a
 //! fan of thin triangles leaves the weights of its corners the same.
@@ -434,10 +437,10 @@ impl CreaseTest {
     }
 }
 
-/// `y.atan2(x)` for `y > 0` (an angle in `(0, π)`), within 5e-10 rad, in a third of the
-/// time of libm's (which was a third of the dragon's normal computation): reduced to
+/// `y.atan2(x)` for `y > 0` (an angle in `(0, π)`), within 5e-10 rad: reduced to
 /// `|u| ≤ tan(π/8)`, where ten terms of atan's alternating series leave an error below
-/// the eleventh, `tan(π/8)^21 / 21 < 5e-10`.
+/// the eleventh, `tan(π/8)^21 / 21 < 5e-10`. libm's `atan2` was a third of
+/// [`SmoothNormals::compute`] on the dragon; with this one compute took 58 ms, not 75.
 fn corner_angle(y: f64, x: f64) -> f64 {
     use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI};
     let (a, b) = (x.abs(), y);

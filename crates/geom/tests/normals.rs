@@ -339,6 +339,18 @@ fn random_meshes_keep_their_triangles_and_get_unit_or_zero_normals() {
                 let len = Vec3::from_array(*n).length();
                 assert!(len == 0.0 || (len - 1.0).abs() < 1e-6, "round {round} crease {crease}: {n:?}");
             }
+            // Below 90°, a corner averages only faces within 90° of its own: its normal
+            // faces the triangle's side.
+            for t in (0..mesh.triangle_count()).filter(|_| crease < 90.0) {
+                let tri = mesh.triangle(t);
+                let ng = (tri.p1 - tri.p0).cross(tri.p2 - tri.p0);
+                if ng.length() > 1e-6 {
+                    for k in 0..3 {
+                        let d = corner_normal(&out, t, k).dot(ng);
+                        assert!(d > 0.0, "round {round} crease {crease}: triangle {t} corner {k}: {d}");
+                    }
+                }
+            }
         }
     }
 }

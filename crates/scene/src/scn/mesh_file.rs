@@ -1,8 +1,8 @@
 //! `mesh { file "…" }`: the one place that turns a mesh file into parts, through the
-//! general loader ([`crate::load`]), so every mesh format dynray reads works in scene
+//! general loader ([`crate::load_file_unshaded`]), so every mesh format dynray reads works in scene
 //! files. Scene files themselves are not meshes: including one goes through `include`.
 
-use crate::load::{load_file_report, FileFormat};
+use crate::load::{load_file_unshaded, FileFormat};
 use crate::{LoadError, Material, Warning};
 use dynray_geom::TriangleMesh;
 use std::path::Path;
@@ -21,7 +21,9 @@ pub(crate) fn load_mesh_file(path: &Path) -> Result<(Parts, Vec<Warning>), LoadE
     }
     // PLY has no materials: its parts take the object's (or the scene's default) material.
     let has_materials = FileFormat::of(path) != Some(FileFormat::Ply);
-    let report = load_file_report(path)?;
+    // Unshaded: the normals the file has; the `mesh` block's `shading` decides the rest
+    // once the scene is built.
+    let report = load_file_unshaded(path)?;
     let scene = report.scene;
     let material = |id: u32| if has_materials { scene.materials.get(id as usize).cloned() } else { None };
     let mut parts = Vec::new();
