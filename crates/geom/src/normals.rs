@@ -24,7 +24,7 @@
 //! fan of thin triangles leaves the weights of its corners the same.
 
 use crate::{MeshError, TriangleMesh};
-use glam::DVec3;
+use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
 /// Most corners a welded position may have for the exact per-corner crease rule, which
@@ -74,7 +74,8 @@ struct Subset {
 ///     vec![[0, 1, 2], [0, 3, 1]],
 /// );
 /// let smooth = SmoothNormals::new(&mesh, 60.0)?;
-/// let shaded = smooth.apply(&mesh)?;
+/// let mut shaded = mesh.clone();
+/// smooth.apply(&mut shaded)?;
 /// assert_eq!(smooth.split_count(), 2); // vertices 0 and 1 are split along the edge
 /// assert_eq!(shaded.triangle(1).p0, mesh.triangle(1).p0);
 /// assert_eq!(shaded.normals.unwrap()[shaded.indices[0][0] as usize], [0.0, 0.0, 1.0]);
@@ -128,14 +129,15 @@ impl SmoothNormals {
         }
         let crease = if crease_deg.is_nan() { 0.0 } else { crease_deg.clamp(0.0, 180.0) };
         let position = |i: u32| DVec3::from_array(mesh.positions[i as usize].map(f64::from));
-        // Unit face normals as wound; zero for a degenerate triangle.
-        let face_normals: Vec<DVec3> = mesh
+        // Unit face normals as wound (computed in f64, kept in f32: they only decide the
+        // crease), zero for a degenerate triangle.
+        let face_normals: Vec<Vec3> = mesh
             .indices
             .par_iter()
             .with_min_len(PAR_MIN)
             .map(|t| {
                 let (p0, p1, p2) = (position(t[0]), position(t[1]), position(t[2]));
-                unit_or_zero((p1 - p0).cross(p2 - p0))
+                unit_or_zero((p1 - p0).cross(p2 - p0)).as_vec3()
             })
             .collect();
 
@@ -245,21 +247,26 @@ impl SmoothNormals {
         self.out_source.len() - self.source_vertices
     }
 
-    /// The smooth mesh of `mesh` (which must have the vertices the topology was built
-    /// for; its own indices and normals are not read): positions and uvs copied to the
-    /// output vertices bit for bit, generated normals, the output triangles.
-    pub fn apply(&self, mesh: &TriangleMesh) -> Result<TriangleMesh, MeshError> {
-        let mut out = TriangleMesh::new(Vec::new(), self.indices.clone());
-        self.gather(&mesh.positions, &mut out.positions)?;
+    /// Makes `mesh` (the mesh the topology was built for, or a deformation of it with the
+    /// same vertices) the smooth mesh, in place: split vertices appended with their
+    /// positions' and uvs' bits copied, the output triangles, generated normals (replacing
+    /// any). On an error (vertex counts that do not match) `mesh` is left as it was.
+    pub fn apply(&self, mesh: &mut TriangleMesh) -> Result<(), MeshError> {
+        self.check_len("positions", mesh.positions.len())?;
         if let Some(uvs) = &mesh.uvs {
-            let mut split = Vec::new();
-            self.gather(uvs, &mut split)?;
-            out.uvs = Some(split);
+            self.check_len("uvs", uvs.len())?;
         }
-        let mut normals = Vec::new();
+        let mut normals = mesh.normals.take().unwrap_or_default();
         self.compute(&mesh.positions, &mut normals)?;
-        out.normals = Some(normals);
-        Ok(out)
+        mesh.normals = Some(normals);
+        let split = &self.out_source[self.source_vertices..];
+        append_copies(&mut mesh.positions, split);
+        if let Some(uvs) = &mut mesh.uvs {
+            append_copies(uvs, split);
+        }
+        mesh.indices.clear();
+        mesh.indices.extend_from_slice(&self.indices);
+        Ok(())
     }
 
     /// Per-vertex `values` of the input (positions, uvs, colours) for the output
@@ -347,37 +354,38 @@ impl SmoothNormals {
     }
 }
 
-/// The crease angle as the dot-product thresholds the rule compares against.
+/// The crease angle as the dot-product thresholds the rule compares against (of `f32`
+/// unit normals: the crease is a tolerance, not a measurement).
 struct CreaseTest {
     /// Faces within the crease of each other: `dot ≥ cos(crease)`; `None` at 180°,
     /// where every face is (a threshold of −1 could miss antiparallel faces by rounding).
-    cos_crease: Option<f64>,
+    cos_crease: Option<f32>,
     /// All faces within half the crease of their mean: then every pair is within it.
-    cos_half: f64,
+    cos_half: f32,
 }
 
 impl CreaseTest {
     fn new(crease_deg: f32) -> Self {
         let r = f64::from(crease_deg).to_radians();
-        Self { cos_crease: (crease_deg < 180.0).then(|| r.cos()), cos_half: (r * 0.5).cos() }
+        Self { cos_crease: (crease_deg < 180.0).then(|| r.cos() as f32), cos_half: (r * 0.5).cos() as f32 }
     }
 
     /// The welded positions whose faces do not all lie within half the crease of their
     /// mean normal, ascending: the only ones where corners may need different normals
     /// (the others are one smooth cap: every pair of faces is within the crease). One
     /// pass over the triangles, in their order.
-    fn creased_positions(&self, welded_indices: &[[u32; 3]], face_normals: &[DVec3], welded: usize) -> Vec<u32> {
+    fn creased_positions(&self, welded_indices: &[[u32; 3]], face_normals: &[Vec3], welded: usize) -> Vec<u32> {
         if self.cos_crease.is_none() {
             return Vec::new();
         }
-        let mut mean = vec![DVec3::ZERO; welded];
+        let mut mean = vec![Vec3::ZERO; welded];
         for (t, n) in welded_indices.iter().zip(face_normals) {
             for &w in t {
                 mean[w as usize] += *n;
             }
         }
         for m in &mut mean {
-            *m = unit_or_zero(*m);
+            *m = m.normalize_or_zero();
         }
         // Which corners of each triangle fail, in parallel (a zero mean, of faces that
         // cancel, fails too: `cos_half` is positive below 180°; nothing here is NaN);
@@ -387,7 +395,7 @@ impl CreaseTest {
             .zip(face_normals)
             .with_min_len(PAR_MIN)
             .map(|(t, n)| {
-                let live = *n != DVec3::ZERO;
+                let live = *n != Vec3::ZERO;
                 (0..3).filter(|&k| live && n.dot(mean[t[k] as usize]) < self.cos_half).fold(0, |m, k| m | 1 << k)
             })
             .collect();
@@ -405,10 +413,10 @@ impl CreaseTest {
     /// The members of each corner of `around` (the corners of one creased position),
     /// into `out`: the exact per-corner rule, or each face alone past
     /// [`MAX_EXACT_CORNERS`].
-    fn classify(&self, around: &[u32], face_normals: &[DVec3], out: &mut Vec<Members>) {
+    fn classify(&self, around: &[u32], face_normals: &[Vec3], out: &mut Vec<Members>) {
         out.clear();
         let normal = |c: u32| face_normals[c as usize / 3];
-        let live = |c: u32| normal(c) != DVec3::ZERO;
+        let live = |c: u32| normal(c) != Vec3::ZERO;
         let Some(cos_crease) = self.cos_crease else {
             out.resize(around.len(), Members::All);
             return;
@@ -467,6 +475,15 @@ fn corner_angle(y: f64, x: f64) -> f64 {
         PI - r
     } else {
         r
+    }
+}
+
+/// Appends a copy of `values[v]` for each `v` of `sources`.
+fn append_copies<T: Copy>(values: &mut Vec<T>, sources: &[u32]) {
+    values.reserve(sources.len());
+    for &v in sources {
+        let x = values[v as usize];
+        values.push(x);
     }
 }
 
@@ -554,8 +571,8 @@ mod tests {
     #[test]
     fn crease_thresholds() {
         let t = CreaseTest::new(60.0);
-        assert!((t.cos_crease.unwrap() - 0.5).abs() < 1e-12);
-        assert!((t.cos_half - 0.75f64.sqrt()).abs() < 1e-12);
+        assert!((t.cos_crease.unwrap() - 0.5).abs() < 1e-7);
+        assert!((t.cos_half - 0.75f32.sqrt()).abs() < 1e-7);
         assert_eq!(CreaseTest::new(180.0).cos_crease, None);
     }
 }

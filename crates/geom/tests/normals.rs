@@ -7,7 +7,8 @@ use rand::{Rng, SeedableRng};
 
 fn smooth(mesh: &TriangleMesh, crease_deg: f32) -> (SmoothNormals, TriangleMesh) {
     let s = SmoothNormals::new(mesh, crease_deg).expect("valid mesh");
-    let out = s.apply(mesh).expect("same mesh");
+    let mut out = mesh.clone();
+    s.apply(&mut out).expect("same mesh");
     (s, out)
 }
 
@@ -272,7 +273,14 @@ fn bad_input_is_an_error_not_a_panic() {
         s.compute(&[[0.0; 3]; 7], &mut normals),
         Err(MeshError::AttributeCount { what: "positions", got: 7, vertices: 8 })
     );
-    assert!(s.apply(&TriangleMesh::new(vec![[0.0; 3]; 9], vec![])).is_err());
+    let mut other = TriangleMesh::new(vec![[0.0; 3]; 9], vec![[0, 1, 2]]);
+    let before = other.clone();
+    assert_eq!(s.apply(&mut other), Err(MeshError::AttributeCount { what: "positions", got: 9, vertices: 8 }));
+    assert_eq!(other, before, "a failed apply changes nothing");
+    let mut bad_uvs = cube();
+    bad_uvs.uvs = Some(vec![[0.0; 2]; 3]);
+    assert!(s.apply(&mut bad_uvs).is_err());
+    assert_eq!(bad_uvs.normals, None);
 }
 
 #[test]

@@ -108,7 +108,7 @@ impl Actor {
             }
         };
         let smooth = SmoothNormals::new(&self.mesh, crease)?;
-        self.mesh = smooth.apply(&self.mesh)?;
+        smooth.apply(&mut self.mesh)?;
         self.normal_source =
             NormalSource::Generated { crease_deg: smooth.crease_deg(), split_vertices: smooth.split_count() };
         Ok(())
