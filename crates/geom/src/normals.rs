@@ -35,7 +35,7 @@ use rayon::prelude::*;
 /// flat (each corner its own face) otherwise: such points have no single normal anyway.
 pub const MAX_EXACT_CORNERS: usize = 64;
 
-/// Triangles per batch of [`SmoothNormals::compute`]'s parallel weights (2.3 MiB of them).
+/// Triangles per batch of [`SmoothNormals::compute`]'s parallel weights (1.1 MiB of them).
 const BATCH: usize = 1 << 15;
 
 /// Fewest items a parallel task takes, so that splitting costs little next to the work.
@@ -88,10 +88,6 @@ pub struct SmoothNormals {
     source_vertices: usize,
     /// The output triangles: the input's, in order, with split vertices renumbered.
     indices: Vec<[u32; 3]>,
-    /// The input triangles, and the welded position of each of their corners: what
-    /// [`SmoothNormals::compute`] reads, in order.
-    source_indices: Vec<[u32; 3]>,
-    welded_indices: Vec<[u32; 3]>,
     /// Number of welded positions.
     welded_count: usize,
     /// The input vertex and the welded position of each output vertex; output vertex
@@ -217,8 +213,6 @@ impl SmoothNormals {
             crease_deg: crease,
             source_vertices: n,
             indices,
-            source_indices: mesh.indices.clone(),
-            welded_indices,
             welded_count: welded,
             out_source,
             out_welded,
@@ -290,23 +284,23 @@ impl SmoothNormals {
         // from its position's corner list, with random reads: 2.5× as long on the dragon.)
         // The weights (the arithmetic) in parallel, a batch at a time; the sums in order,
         // so the bits do not depend on the threads.
-        let mut full = vec![DVec3::ZERO; self.welded_count];
-        let mut batch = vec![[DVec3::ZERO; 3]; BATCH.min(self.welded_indices.len())];
-        for (b, welded) in self.welded_indices.chunks(BATCH).enumerate() {
-            let weights = &mut batch[..welded.len()];
+        let mut full = vec![Vec3::ZERO; self.welded_count];
+        let mut batch = vec![[Vec3::ZERO; 3]; BATCH.min(self.indices.len())];
+        for (b, tris) in self.indices.chunks(BATCH).enumerate() {
+            let weights = &mut batch[..tris.len()];
             weights
                 .par_iter_mut()
                 .with_min_len(PAR_MIN)
                 .enumerate()
                 .for_each(|(i, w)| *w = self.corner_weights(b * BATCH + i, positions));
-            for (t, w) in welded.iter().zip(weights.iter()) {
+            for (t, w) in tris.iter().zip(weights.iter()) {
                 for k in 0..3 {
-                    full[t[k] as usize] += w[k];
+                    full[self.out_welded[t[k] as usize] as usize] += w[k];
                 }
             }
         }
         normals.clear();
-        normals.extend(self.out_welded.iter().map(|&w| unit_or_zero(full[w as usize]).as_vec3().to_array()));
+        normals.extend(self.out_welded.iter().map(|&w| full[w as usize].normalize_or_zero().to_array()));
         for s in &self.subsets {
             let around = &self.subset_corners[s.start as usize..s.end as usize];
             let weight = |c: u32| self.corner_weights(c as usize / 3, positions)[c as usize % 3];
@@ -316,24 +310,25 @@ impl SmoothNormals {
                     .iter()
                     .enumerate()
                     .filter(|&(j, _)| mask >> j & 1 == 1)
-                    .fold(DVec3::ZERO, |sum, (_, &c)| sum + weight(c)),
+                    .fold(Vec3::ZERO, |sum, (_, &c)| sum + weight(c)),
                 Members::Own(j) => weight(around[j as usize]),
             };
-            normals[s.vertex as usize] = unit_or_zero(sum).as_vec3().to_array();
+            normals[s.vertex as usize] = sum.normalize_or_zero().to_array();
         }
         Ok(())
     }
 
     /// Triangle `f`'s unit normal scaled by its angle at each corner; zero for a
-    /// degenerate triangle. `f64` throughout: cross products of `f32` coordinates cannot
-    /// overflow there.
-    fn corner_weights(&self, f: usize, positions: &[[f32; 3]]) -> [DVec3; 3] {
-        let p = self.source_indices[f].map(|v| DVec3::from_array(positions[v as usize].map(f64::from)));
+    /// degenerate triangle. Computed in `f64` (cross products of `f32` coordinates cannot
+    /// overflow there, and slivers keep their direction), summed in `f32`.
+    fn corner_weights(&self, f: usize, positions: &[[f32; 3]]) -> [Vec3; 3] {
+        let p =
+            self.indices[f].map(|o| DVec3::from_array(positions[self.out_source[o as usize] as usize].map(f64::from)));
         let (e01, e02, e12) = (p[1] - p[0], p[2] - p[0], p[2] - p[1]);
         let n = e01.cross(e02);
         let len = n.length();
         if !(len > 0.0 && len.is_finite()) {
-            return [DVec3::ZERO; 3];
+            return [Vec3::ZERO; 3];
         }
         // The angle of (dot, |cross|) — |cross| is twice the area, the same at every
         // corner — is the corner angle, accurate for slivers too; the third closes the
@@ -342,7 +337,7 @@ impl SmoothNormals {
         let a1 = corner_angle(len, -e01.dot(e12));
         let a2 = (std::f64::consts::PI - a0 - a1).max(0.0);
         let unit = n / len;
-        [unit * a0, unit * a1, unit * a2]
+        [unit * a0, unit * a1, unit * a2].map(|w| w.as_vec3())
     }
 
     fn check_len(&self, what: &'static str, got: usize) -> Result<(), MeshError> {
@@ -480,7 +475,8 @@ fn corner_angle(y: f64, x: f64) -> f64 {
 
 /// Appends a copy of `values[v]` for each `v` of `sources`.
 fn append_copies<T: Copy>(values: &mut Vec<T>, sources: &[u32]) {
-    values.reserve(sources.len());
+    // Exact: a doubled buffer would be fresh pages for the kernel to clear, for nothing.
+    values.reserve_exact(sources.len());
     for &v in sources {
         let x = values[v as usize];
         values.push(x);
