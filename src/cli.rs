@@ -67,6 +67,10 @@ pub struct RenderArgs {
     /// Seed of the sample positions and of every random choice an integrator makes.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
+    /// Shade every surface with its triangles' geometric normals: no vertex normals,
+    /// neither generated nor from files (to compare with the default smooth shading).
+    #[arg(long)]
+    pub flat_shading: bool,
     /// Write one channel of the pixel-centre rays instead of colour, as float EXR:
     /// depth (t, +inf on a miss), normal (shading normal), prim (triangle index, -1 on a
     /// miss) or albedo (diffuse colour).

@@ -24,11 +24,14 @@ pub fn run(cli: Cli) -> Result<()> {
     }
 }
 
-/// Loads any scene or mesh file the engine reads. Warnings (a missing `.mtl`, also one
-/// referenced from a `.scn`) go to stderr, each once, as `dynray: warning: …`; the
-/// library returns them rather than printing, so this is where a person sees them.
-fn load_scene(path: &Path) -> Result<Scene> {
-    let report = dynray_scene::load_file_report(path)?;
+/// Loads any scene or mesh file the engine reads, with its vertices as the files give
+/// them (no generated normals, no split vertices): commands that render then apply the
+/// shading ([`apply_shading`]), after any override of their own; those that only need
+/// triangles skip it. Warnings (a missing `.mtl`, also one referenced from a `.scn`) go
+/// to stderr, each once, as `dynray: warning: …`; the library returns them rather than
+/// printing, so this is where a person sees them.
+fn load_unshaded(path: &Path) -> Result<Scene> {
+    let report = dynray_scene::load_file_unshaded(path)?;
     let mut shown = Vec::with_capacity(report.warnings.len());
     for w in &report.warnings {
         if !shown.contains(&w) {
@@ -37,6 +40,14 @@ fn load_scene(path: &Path) -> Result<Scene> {
         }
     }
     Ok(report.scene)
+}
+
+/// `Scene::apply_shading`, its (unlikely: loaders validate meshes) error naming the file.
+fn apply_shading(scene: &mut Scene, path: &Path) -> Result<()> {
+    scene
+        .apply_shading()
+        .map_err(|source| dynray_scene::LoadError::Mesh { path: path.to_path_buf(), source })
+        .map_err(Into::into)
 }
 
 /// Formats a count with thousands separators (`871,414`): the bench's formatter.

@@ -4,7 +4,9 @@ use super::thousands;
 use crate::cli::RenderArgs;
 use anyhow::{bail, Context, Result};
 use dynray_render::{render, render_aov, write_aov, write_image, OutputFormat, RenderOptions};
+use dynray_scene::Shading;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::path::Path;
 use std::time::{Duration, Instant};
 
 pub fn run(a: RenderArgs) -> Result<()> {
@@ -16,10 +18,17 @@ pub fn run(a: RenderArgs) -> Result<()> {
         }
         _ => {}
     }
-    let (scene, label) = match &a.scene {
-        Some(p) => (super::load_scene(p)?, p.display().to_string()),
+    let (mut scene, label) = match &a.scene {
+        Some(p) => (super::load_unshaded(p)?, p.display().to_string()),
         None => (dynray_scene::demo::demo_scene(), "built-in demo scene".to_string()),
     };
+    // Before applying the shading, so that no normals are generated only to be dropped.
+    if a.flat_shading {
+        for actor in &mut scene.actors {
+            actor.shading = Shading::Flat;
+        }
+    }
+    super::apply_shading(&mut scene, Path::new(&label))?;
     let mut frame = scene.frame(0.0);
     let s = &mut frame.settings;
     if let Some(w) = a.width {

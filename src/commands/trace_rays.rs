@@ -20,7 +20,8 @@ pub fn run(a: TraceRaysArgs) -> Result<()> {
     check_output(&a.output)?;
     let t_read = Instant::now();
     let rays = read_rays(&a.rays)?;
-    let frame = super::load_scene(&a.mesh)?.frame(0.0);
+    // Hits need only the triangles: the file's vertices as they are, as `load_mesh`.
+    let frame = super::load_unshaded(&a.mesh)?.frame(0.0);
     let read = t_read.elapsed();
     let t0 = Instant::now();
     let accel =

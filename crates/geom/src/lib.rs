@@ -1,5 +1,6 @@
-//! Shared geometry of dynray: rays, hits, boxes, triangle meshes and the one
-//! ray–triangle test every acceleration structure calls.
+//! Shared geometry of dynray: rays, hits, boxes, triangle meshes, smooth vertex normals
+//! for meshes without them, and the one ray–triangle test every acceleration structure
+//! calls.
 //!
 //! Nothing here knows about trees. Because every structure intersects triangles
 //! through [`Triangle::intersect`] with the same [`PreparedRay`], the closest hit of
@@ -11,6 +12,7 @@
 mod aabb;
 mod hit;
 mod mesh;
+mod normals;
 mod overlap;
 mod ray;
 mod triangle;
@@ -19,6 +21,7 @@ pub use aabb::{Aabb, SLAB_MARGIN};
 pub use glam::{Vec2, Vec3};
 pub use hit::Hit;
 pub use mesh::{MeshError, TriangleMesh};
+pub use normals::{SmoothNormals, MAX_EXACT_CORNERS};
 pub use overlap::triangle_box_overlap;
 pub use ray::{PreparedRay, Ray};
 pub use triangle::Triangle;

@@ -35,10 +35,20 @@ pub enum MeshError {
         /// Values given.
         len: usize,
     },
-    /// Normals or uvs are present but not one per vertex.
+    /// More vertices and corners than `u32` indices can number (see
+    /// [`crate::SmoothNormals::new`], which may add a vertex per corner).
+    #[error("{vertices} vertices and {triangles} triangles are too many to number with 32-bit indices")]
+    TooLarge {
+        /// Vertices.
+        vertices: usize,
+        /// Triangles.
+        triangles: usize,
+    },
+    /// Normals or uvs are present but not one per vertex (or positions or values given
+    /// to [`crate::SmoothNormals`] are not one per vertex of the mesh it was built for).
     #[error("{what} has {got} entries for {vertices} vertices")]
     AttributeCount {
-        /// `normals` or `uvs`.
+        /// `normals`, `uvs`, `positions` or `values`.
         what: &'static str,
         /// Entries found.
         got: usize,

@@ -3,7 +3,7 @@
 //! geometry, so that animation can change placement or shape per frame without
 //! re-reading or re-baking the source.
 
-use crate::Transform;
+use crate::{NormalSource, Shading, Transform};
 use dynray_geom::{Aabb, TriangleMesh, Vec3};
 
 /// Whether an actor's world geometry may change from one frame to the next.
@@ -36,14 +36,28 @@ pub struct Actor {
     pub transform: Transform,
     /// Whether the world geometry can change with time.
     pub motion: Motion,
+    /// How the source asked the actor to be shaded; [`Actor::apply_shading`] makes
+    /// `mesh.normals` follow it (`shading.rs`).
+    pub shading: Shading,
+    /// What `mesh.normals` holds: the source's normals, generated ones, or none.
+    pub normal_source: NormalSource,
 }
 
 impl Actor {
     /// A static actor at the origin ([`Transform::IDENTITY`]) whose triangles all use
-    /// `material`.
+    /// `material`, with [`Shading::Auto`] and the normals `mesh` has.
     pub fn new(name: Option<String>, mesh: TriangleMesh, material: u32) -> Self {
         let materials = vec![material; mesh.triangle_count()];
-        Self { name, mesh, materials, transform: Transform::IDENTITY, motion: Motion::Static }
+        let normal_source = NormalSource::of(&mesh);
+        Self {
+            name,
+            mesh,
+            materials,
+            transform: Transform::IDENTITY,
+            motion: Motion::Static,
+            shading: Shading::Auto,
+            normal_source,
+        }
     }
 
     /// The same actor placed by `transform`.

@@ -5,8 +5,9 @@
 //! - an **enclosure** — a room, a Cornell box — is seen from its open side, head-on:
 //!   from the front-right-above three-quarter view a box open towards `+z` shows the
 //!   outside of its right wall. A model is taken as an enclosure open on a side when the
-//!   straight line from outside that side to the centre of its bounds crosses no
-//!   triangle; sides are tried in the order `+z`, `−z`, `+x`, `−x`;
+//!   straight line from outside that side to (just short of) the centre of its bounds
+//!   crosses no triangle; sides are tried in the order `+z`, `−z`, `+x`, `−x`. A flat
+//!   model lying through its centre (a quad facing `+z`) is seen head-on from `+z`;
 //! - anything else (a solid like the bunny, whose centre is inside it) is seen from the
 //!   front, a little from the right and above ([`Camera::framing`]), which shows its
 //!   shape better than a head-on view.
@@ -29,7 +30,9 @@ impl Camera {
         let dist = framing_distance(&bounds);
         for side in [Vec3::Z, Vec3::NEG_Z, Vec3::X, Vec3::NEG_X] {
             let eye = c + side * dist;
-            if !blocked(scene, &Ray::with_interval(eye, -side, 0.0, dist)) {
+            // Stops just short of the centre: a flat model through its centre (a quad, a
+            // floor) is not in the way of its own front view.
+            if !blocked(scene, &Ray::with_interval(eye, -side, 0.0, dist * (1.0 - 1e-3))) {
                 return Camera {
                     position: c + side * head_on_distance(&bounds, side, scene.settings.width, scene.settings.height),
                     look_at: c,

@@ -15,6 +15,12 @@
 //! file (`.scn`) is taken as written: no light added (a warning says when it has none)
 //! and, without a `camera`, the same default view.
 //!
+//! Shading normals (`shading.rs`): [`load_file`] and [`load_file_report`] give every actor
+//! the normals its [`crate::Shading`] asks for — a mesh file without normals gets smooth,
+//! angle-weighted ones — so the scene is ready to render. [`load_file_unshaded`] and
+//! [`load_mesh`] return the files' vertices as they are (no generated normals, no split
+//! vertices), for callers that want geometry or choose their own shading.
+//!
 //! Problems that do not stop loading (a missing `.mtl` file, an unknown material name, a
 //! glTF point primitive that is skipped, a texture that cannot be read or decoded, any
 //! of these in a mesh file that a `.scn` reads)
@@ -69,15 +75,27 @@ pub fn load_file(path: &Path) -> Result<Scene, LoadError> {
 }
 
 /// Loads any file dynray reads as one world-space triangle mesh: every actor placed by
-/// its transform and concatenated in order (the mesh of the scene's frame at time 0),
-/// for library users who only want geometry to build a structure over. Materials,
-/// lights and warnings are dropped (use [`load_file_report`] for those).
+/// its transform and concatenated in order (the mesh of the unshaded scene's frame at
+/// time 0), for library users who only want geometry to build a structure over. The
+/// file's vertices come as they are: normals only where the file has them, none
+/// generated, no vertex split. Materials, lights and warnings are dropped (use
+/// [`load_file_report`] for those).
 pub fn load_mesh(path: &Path) -> Result<TriangleMesh, LoadError> {
-    Ok(load_file(path)?.frame(0.0).mesh)
+    Ok(load_file_unshaded(path)?.scene.frame(0.0).mesh)
 }
 
-/// Loads a mesh or scene file into a [`Scene`] and returns the warnings met on the way.
+/// Loads a mesh or scene file into a [`Scene`] ready to render (each actor's shading
+/// applied, see the module docs) and returns the warnings met on the way.
 pub fn load_file_report(path: &Path) -> Result<LoadReport, LoadError> {
+    let mut report = load_file_unshaded(path)?;
+    report.scene.apply_shading().map_err(|source| LoadError::Mesh { path: path.to_path_buf(), source })?;
+    Ok(report)
+}
+
+/// Loads a mesh or scene file as [`load_file_report`] does, but leaves each actor's
+/// normals as the files give them: its [`crate::Actor::shading`] records what was asked,
+/// and [`Scene::apply_shading`] does it.
+pub fn load_file_unshaded(path: &Path) -> Result<LoadReport, LoadError> {
     let mut report = load_own(path)?;
     let scene = &mut report.scene;
     if FileFormat::of(path) == Some(FileFormat::Scn) {
@@ -101,8 +119,9 @@ pub fn load_file_report(path: &Path) -> Result<LoadReport, LoadError> {
     Ok(report)
 }
 
-/// What a file itself holds — its actors, materials, lights and camera — without the
-/// defaults [`load_file_report`] adds: what a `.scn`'s `mesh { file }` takes from it.
+/// What a file itself holds — its actors, materials, lights and camera — unshaded and
+/// without the defaults [`load_file_unshaded`] adds: what a `.scn`'s `mesh { file }`
+/// takes from it.
 pub(crate) fn load_own(path: &Path) -> Result<LoadReport, LoadError> {
     let format = FileFormat::of(path).ok_or_else(|| LoadError::UnknownFormat { path: path.to_path_buf() })?;
     match format {
@@ -119,7 +138,7 @@ pub(crate) fn load_own(path: &Path) -> Result<LoadReport, LoadError> {
         }
         FileFormat::Obj => crate::formats::obj::load(path),
         FileFormat::Gltf => crate::formats::gltf::load(path),
-        FileFormat::Scn => crate::scn::load_scn_report(path),
+        FileFormat::Scn => crate::scn::load_scn_unshaded(path),
     }
 }
 

@@ -3,8 +3,19 @@
 
 mod support;
 
-use dynray_scene::{load_file, load_file_report, LightKind};
+use dynray_scene::{load_file_unshaded, LightKind, LoadError, LoadReport, Scene};
 use support::*;
+
+// These tests check what the format loaders read from the files, so they load without
+// applying shading (generated normals and split vertices are `shading.rs`'s, tested in
+// tests/shading.rs).
+fn load_file(p: &std::path::Path) -> Result<Scene, LoadError> {
+    load_file_unshaded(p).map(|r| r.scene)
+}
+
+fn load_file_report(p: &std::path::Path) -> Result<LoadReport, LoadError> {
+    load_file_unshaded(p)
+}
 
 // ---------------------------------------------------------------------------------------
 // PLY

@@ -2,7 +2,7 @@
 //! same mesh, and every bad input is an error naming the file and the array.
 
 use dynray_scene::formats::npz;
-use dynray_scene::{load_file, LoadError};
+use dynray_scene::{load_file, LoadError, NormalSource, DEFAULT_CREASE_DEG};
 use npyz::npz::NpzWriter;
 use npyz::{AutoSerialize, Order, WriterBuilder};
 use std::path::Path;
@@ -81,6 +81,19 @@ fn every_dtype_and_order_gives_the_same_mesh() {
     let scene = load_file(&plain).unwrap();
     assert_eq!(scene.actors.len(), 1);
     assert_eq!(scene.frame(0.0).mesh.triangle_count(), 2);
+    // Arrays have no normals: rendering gets smooth ones (the fold is 90°: split), and
+    // the triangles keep their positions.
+    let a = &scene.actors[0];
+    assert_eq!(a.normal_source, NormalSource::Generated { crease_deg: DEFAULT_CREASE_DEG, split_vertices: 2 });
+    for (t, want) in FACES.iter().enumerate() {
+        for k in 0..3 {
+            assert_eq!(a.mesh.positions[a.mesh.indices[t][k] as usize], want_positions(&want.map(|i| i as usize))[k]);
+        }
+    }
+}
+
+fn want_positions(face: &[usize; 3]) -> [[f32; 3]; 3] {
+    face.map(|i| VERTICES[i].map(|x| x as f32))
 }
 
 #[test]

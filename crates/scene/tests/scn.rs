@@ -3,7 +3,9 @@
 //! evaluation, and the example scenes of `examples/`.
 
 use dynray_scene::scn::{auto_sphere_detail, eval_expr, Value};
-use dynray_scene::{load_scn, parse_scn_str, LightKind, LoadError, Material, Projection, Scene, Settings};
+use dynray_scene::{
+    load_scn, parse_scn_str, LightKind, LoadError, Material, NormalSource, Projection, Scene, Settings, Shading,
+};
 use glam::{DVec3, Vec3};
 use std::path::{Path, PathBuf};
 
@@ -161,6 +163,115 @@ fn mesh_file_and_inline_data_do_not_mix() {
     write_ply(dir.path(), "tri.ply");
     let (_, _, msg, _) = fail_in("mesh { file \"tri.ply\" vertices { 1 <0,0,0> } }", dir.path());
     assert!(msg.contains("`vertices` cannot be combined with `file`"), "{msg}");
+}
+
+/// A mesh file without normals: two triangles folded 90° along the x axis.
+fn write_fold(dir: &Path) {
+    std::fs::write(dir.join("fold.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 4 2\n").unwrap();
+}
+
+/// What each actor was asked for and what its mesh holds.
+fn shading_of(s: &Scene) -> Vec<(Shading, NormalSource)> {
+    s.actors.iter().map(|a| (a.shading, a.normal_source)).collect()
+}
+
+#[test]
+fn mesh_shading_parameter() {
+    let dir = tempfile::tempdir().unwrap();
+    write_fold(dir.path());
+    let parse_in = |text: &str| parse_scn_str("t.scn", text, dir.path()).unwrap_or_else(|e| panic!("{text}:\n{e}"));
+    let generated = |crease_deg, split_vertices| NormalSource::Generated { crease_deg, split_vertices };
+    let cases: [(&str, Shading, NormalSource); 7] = [
+        // A file without normals is smoothed by default; the fold's 90° stays hard.
+        ("mesh { file \"fold.obj\" }", Shading::Auto, generated(60.0, 2)),
+        ("mesh { file \"fold.obj\" shading auto }", Shading::Auto, generated(60.0, 2)),
+        ("mesh { file \"fold.obj\" shading flat }", Shading::Flat, NormalSource::Geometric),
+        ("mesh { file \"fold.obj\" shading smooth }", Shading::Smooth { crease_deg: 60.0 }, generated(60.0, 2)),
+        ("mesh { shading smooth 120 file \"fold.obj\" }", Shading::Smooth { crease_deg: 120.0 }, generated(120.0, 0)),
+        // An expression, and a crease left out before another parameter.
+        (
+            "define c = 45 mesh { file \"fold.obj\" shading smooth c * 2 + 30 }",
+            Shading::Smooth { crease_deg: 120.0 },
+            generated(120.0, 0),
+        ),
+        (
+            "mesh { file \"fold.obj\" shading smooth material { color rgb(1, 0, 0) } }",
+            Shading::Smooth { crease_deg: 60.0 },
+            generated(60.0, 2),
+        ),
+    ];
+    for (text, shading, source) in cases {
+        let s = parse_in(text);
+        assert_eq!(shading_of(&s), [(shading, source)], "{text}");
+        assert_eq!(s.actors[0].mesh.normals.is_some(), source != NormalSource::Geometric, "{text}");
+    }
+    let s = parse_in("mesh { file \"fold.obj\" shading smooth transform { translate <1, 0, 0> } }");
+    assert_eq!(shading_of(&s), [(Shading::Smooth { crease_deg: 60.0 }, generated(60.0, 2))]);
+    assert_eq!(positions(&s, 0)[1], v(2., 0., 0.));
+    // A defined object keeps its shading in every instance.
+    let s = parse_in(
+        "define f mesh { file \"fold.obj\" shading flat } object f object { f transform { translate <0,0,3> } }",
+    );
+    assert_eq!(shading_of(&s), [(Shading::Flat, NormalSource::Geometric); 2]);
+}
+
+#[test]
+fn inline_meshes_boxes_and_spheres_keep_the_normals_they_have() {
+    const FOLD: &str = "vertices { 4 <0,0,0> <1,0,0> <0,1,0> <0,0,1> } triangles { 2 <0,1,2> <0,3,1> }";
+    // Seed 003: a triangle without normals uses its own.
+    let s = parse(&format!("mesh {{ {FOLD} }}"));
+    assert_eq!(shading_of(&s), [(Shading::Flat, NormalSource::Geometric)]);
+    assert!(s.actors[0].mesh.normals.is_none());
+    let s = parse(&format!("mesh {{ {FOLD} shading smooth 100 }}"));
+    assert_eq!(
+        shading_of(&s),
+        [(Shading::Smooth { crease_deg: 100.0 }, NormalSource::Generated { crease_deg: 100.0, split_vertices: 0 })]
+    );
+    // Normals that are given are kept; `shading flat` drops them.
+    let given = "vertices { 3 <0,0,0> <1,0,0> <0,1,0> } normals { 3 <0,0,1> <0,1,1> <1,0,1> } triangles { 1 <0,1,2> }";
+    let s = parse(&format!("mesh {{ {given} }}"));
+    assert_eq!(shading_of(&s), [(Shading::Auto, NormalSource::FromSource)]);
+    assert_eq!(s.actors[0].mesh.normals.as_ref().unwrap()[1], Vec3::new(0.0, 1.0, 1.0).normalize().to_array());
+    let s = parse(&format!("mesh {{ {given} shading flat }}"));
+    assert_eq!(shading_of(&s), [(Shading::Flat, NormalSource::Geometric)]);
+    // A box keeps its flat face normals, a sphere its analytic ones.
+    let s = parse("box { center <0,0,0> orientation <0,0,0> scale <1,1,1> } sphere { center <0,0,0> radius 1 }");
+    assert_eq!(shading_of(&s), [(Shading::Auto, NormalSource::FromSource); 2]);
+    let (_, _, msg, _) = fail("box { center <0,0,0> orientation <0,0,0> scale <1,1,1> shading smooth }");
+    assert!(msg.contains("unknown parameter `shading` in `box`"), "{msg}");
+}
+
+#[test]
+fn shading_errors_point_at_the_text() {
+    const M: &str = "mesh { vertices { 3 <0,0,0> <1,0,0> <0,1,0> } triangles { 1 <0,1,2> }";
+    let (line, col, msg, rendered) = fail(&format!("{M}\n  shading glossy }}"));
+    assert_eq!((line, col), (2, 11));
+    assert_eq!(msg, "unknown shading `glossy`");
+    assert!(rendered.contains("expected `auto`, `flat` or `smooth`"), "{rendered}");
+    assert!(rendered.contains("test.scn:2:11"), "{rendered}");
+    let (_, _, _, rendered) = fail(&format!("{M} shading smoth }}"));
+    assert!(rendered.contains("did you mean `smooth`?"), "{rendered}");
+    // The error points at the crease, however it is written.
+    let col = M.len() + "  shading smooth ".len() + 1;
+    for crease in ["200", "-1", "180.5", "90 * 3"] {
+        let (line, c, msg, rendered) = fail(&format!("{M}  shading smooth {crease} }}"));
+        assert_eq!((line, c), (1, col), "{crease}: {msg}");
+        assert!(msg.starts_with("crease angle is ") && msg.ends_with("but it must lie in 0..=180 degrees"), "{msg}");
+        assert!(rendered.contains(&format!("test.scn:1:{col}")), "{rendered}");
+    }
+    // The ends of the range are accepted.
+    parse(&format!("{M} shading smooth 0 }}"));
+    parse(&format!("{M} shading smooth 180 }}"));
+    let (_, _, msg, _) = fail(&format!("{M} shading smooth <1, 2, 3> }}"));
+    assert!(msg.contains("crease angle must be a real, found a vector"), "{msg}");
+    let (_, _, msg, _) = fail(&format!("{M} shading 45 }}"));
+    assert!(msg.contains("expected `auto`, `flat` or `smooth` after `shading`, found number `45`"), "{msg}");
+    let (_, _, msg, _) = fail(&format!("{M} shading }}"));
+    assert!(msg.contains("expected `auto`, `flat` or `smooth` after `shading`, found `}`"), "{msg}");
+    let (_, _, msg, _) = fail(&format!("{M} shading flat shading smooth }}"));
+    assert!(msg.contains("duplicated parameter `shading` in `mesh`"), "{msg}");
+    let (_, _, msg, _) = fail(&format!("{M} shading smooth unknown_name }}"));
+    assert!(msg.contains("unknown name `unknown_name`"), "{msg}");
 }
 
 #[test]

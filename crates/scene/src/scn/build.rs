@@ -94,7 +94,13 @@ pub(crate) fn build(mut st: State, warnings: &mut Vec<Warning>) -> Result<Scene,
             materials.extend(std::iter::repeat_n(id, m.triangle_count()));
             mesh.append(&m);
         }
-        let actor = Actor { name: entry.name, mesh, materials, transform, motion: Motion::Static };
+        let actor = Actor {
+            materials,
+            transform,
+            motion: Motion::Static,
+            shading: entry.object.shading,
+            ..Actor::new(entry.name, mesh, 0)
+        };
         // Checked in world space, as the frame will hold it: a transform can overflow
         // `f32`. (Indices and attributes are the same in both spaces.)
         let checked = if transform.is_identity() { actor.mesh.validate() } else { actor.world_mesh().validate() };

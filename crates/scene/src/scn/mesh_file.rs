@@ -1,6 +1,6 @@
 //! `mesh { file "…" }`: the one place that turns a mesh file into parts, through the
-//! general loader ([`crate::load`]), so every mesh format dynray reads works in scene
-//! files. Scene files themselves are not meshes: including one goes through `include`.
+//! general loader (`load.rs`), so every mesh format dynray reads works in scene files.
+//! Scene files themselves are not meshes: including one goes through `include`.
 //! The lights the file itself brings (an OBJ's emissive `Ke` lamp, glTF punctual lights)
 //! come with the parts, placed like them; the default light of a bare mesh file does not.
 
@@ -37,6 +37,8 @@ pub(crate) fn load_mesh_file(path: &Path) -> Result<MeshFile, LoadError> {
     }
     // PLY has no materials: its parts take the object's (or the scene's default) material.
     let has_materials = FileFormat::of(path) != Some(FileFormat::Ply);
+    // Unshaded: the normals the file has; the `mesh` block's `shading` decides the rest
+    // once the scene is built.
     let report = load_own(path)?;
     let scene = report.scene;
     let lights = scene.lights.clone();

@@ -22,6 +22,7 @@ mod value;
 
 pub use blocks::{DEFAULT_ANGLE_DEG, MAX_FALLOFF, MAX_IMAGE_SIDE, MAX_RECURSION};
 pub use build::{auto_sphere_detail, MAX_SPHERE_DETAIL, MIN_SPHERE_DETAIL, SILHOUETTE_TOLERANCE_PX};
+pub use objects::MAX_CREASE_DEG;
 pub use transform::{rotate_about, scale_about};
 pub use value::{BinOp, Value};
 
@@ -53,17 +54,29 @@ pub fn load_scn(path: &Path) -> Result<Scene, LoadError> {
 /// Loads a `.scn` file with the warnings of the mesh files it reads (a missing `.mtl`, a
 /// skipped glTF primitive), each naming the mesh file, in reading order. A mesh file read
 /// twice warns once.
+/// Each actor's shading (a mesh's `shading` parameter, §4 of the reference) is applied.
 pub fn load_scn_report(path: &Path) -> Result<LoadReport, LoadError> {
+    let mut report = load_scn_unshaded(path)?;
+    report.scene.apply_shading().map_err(|source| LoadError::Mesh { path: path.to_path_buf(), source })?;
+    Ok(report)
+}
+
+/// [`load_scn_report`] without applying the actors' shading
+/// ([`crate::load_file_unshaded`] for `.scn` files).
+pub(crate) fn load_scn_unshaded(path: &Path) -> Result<LoadReport, LoadError> {
     let text = std::fs::read_to_string(path).map_err(|e| LoadError::io(path, e))?;
     let canon = path.canonicalize().map_err(|e| LoadError::io(path, e))?;
     let dir = canon.parent().map(Path::to_path_buf).unwrap_or_default();
     on_parser_stack(|| parse(path.display().to_string(), text, &dir, Some(canon)))
 }
 
-/// Parses scene text. `name` labels diagnostics; `base_dir` is where relative includes
-/// and mesh files are looked up. Mesh-file warnings are dropped (see [`load_scn_report`]).
+/// Parses scene text, and applies each actor's shading. `name` labels diagnostics;
+/// `base_dir` is where relative includes and mesh files are looked up. Mesh-file
+/// warnings are dropped (see [`load_scn_report`]).
 pub fn parse_scn_str(name: &str, text: &str, base_dir: &Path) -> Result<Scene, LoadError> {
-    on_parser_stack(|| parse(name.to_string(), text.to_string(), base_dir, None)).map(|r| r.scene)
+    let mut scene = on_parser_stack(|| parse(name.to_string(), text.to_string(), base_dir, None))?.scene;
+    scene.apply_shading().map_err(|source| LoadError::Mesh { path: name.into(), source })?;
+    Ok(scene)
 }
 
 /// Runs `f` on a thread with [`PARSER_STACK_BYTES`] of stack, or on this one if no

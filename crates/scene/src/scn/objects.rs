@@ -6,11 +6,13 @@
 //! (centre, radius) until the whole file is read, so that `settings { sphere_detail }`
 //! applies to every sphere wherever it is written; see `build.rs`.
 
+use super::diag::did_you_mean;
+use super::lexer::Tok;
 use super::mesh_file::{load_mesh_file, MeshFile, Parts};
 use super::parser::{Def, Parser, Span, R};
 use super::textures::shifted;
 use crate::shapes::cuboid;
-use crate::{Light, LightKind, Material};
+use crate::{Light, LightKind, Material, Shading, DEFAULT_CREASE_DEG};
 use dynray_geom::TriangleMesh;
 use glam::{DMat4, Vec3};
 use std::collections::HashMap;
@@ -47,11 +49,22 @@ pub(crate) struct Object {
     /// Lights that come with the geometry (a mesh file's lamps), in world space: each
     /// placement of the object adds them to the scene.
     pub lights: Vec<Light>,
+    /// How the actor placing it is shaded: a mesh's `shading` parameter, else `Auto`
+    /// (file normals kept, generated where there are none) for mesh files, boxes and
+    /// spheres (whose own normals are kept), and `Flat` for inline meshes without normals.
+    pub shading: Shading,
 }
+
+/// Largest crease angle `shading smooth` accepts, in degrees (180 smooths every edge).
+pub const MAX_CREASE_DEG: f64 = 180.0;
 
 impl Object {
     fn single(shape: Shape) -> Self {
-        Object { parts: vec![Part { shape, transform: DMat4::IDENTITY, material: None }], lights: Vec::new() }
+        Object {
+            parts: vec![Part { shape, transform: DMat4::IDENTITY, material: None }],
+            lights: Vec::new(),
+            shading: Shading::Auto,
+        }
     }
 
     /// Applies `m` after the transforms already there, to the parts and their lights.
@@ -173,49 +186,47 @@ impl Parser<'_> {
         Ok(())
     }
 
-    /// `mesh { (file "…" | vertices … [normals …] triangles …) modifiers }`.
+    /// `mesh { (file "…" | vertices … [normals …] triangles …) [shading …] modifiers }`.
     fn mesh(&mut self) -> R<Object> {
         let mut file: Option<(Parts, Vec<Light>)> = None;
         let mut vertices: Option<Vec<Vec3>> = None;
         let mut normals: Option<(Vec<Vec3>, Span)> = None;
         let mut triangles: Option<Vec<Tri>> = None;
+        let mut shading: Option<Shading> = None;
         let mut inline_key: Option<(String, Span)> = None;
         let mut file_key: Option<Span> = None;
-        let (block, mods) =
-            self.primitive_block("mesh", &["file", "vertices", "normals", "triangles"], |p, key, span| {
-                if key == "file" {
-                    file_key = Some(span.clone());
-                } else if inline_key.is_none() {
-                    inline_key = Some((key.to_string(), span.clone()));
-                }
-                match key {
-                    "file" => {
-                        let (rel, s) = p.string("a quoted file name")?;
-                        let path = p.dir.join(&rel);
-                        let MeshFile { mut parts, lights, textures, warnings } =
-                            load_mesh_file(&path).map_err(|e| {
-                                p.err(s, format!("cannot load mesh file `{rel}`"))
-                                    .label("this file")
-                                    .note(e.to_string())
-                            })?;
-                        p.st.warnings.extend(warnings);
-                        // The file's materials name its textures; renumber into the scene's.
-                        let base = p.add_decoded_textures(textures);
-                        for m in parts.iter_mut().filter_map(|(_, m)| m.as_mut()) {
-                            m.diffuse_texture = m.diffuse_texture.map(|t| shifted(t, base));
-                        }
-                        file = Some((parts, lights));
+        let (block, mods) = self.primitive_block("mesh", &MESH_KEYS, |p, key, span| {
+            if key == "file" {
+                file_key = Some(span.clone());
+            } else if key != "shading" && inline_key.is_none() {
+                inline_key = Some((key.to_string(), span.clone()));
+            }
+            match key {
+                "file" => {
+                    let (rel, s) = p.string("a quoted file name")?;
+                    let path = p.dir.join(&rel);
+                    let MeshFile { mut parts, lights, textures, warnings } = load_mesh_file(&path).map_err(|e| {
+                        p.err(s, format!("cannot load mesh file `{rel}`")).label("this file").note(e.to_string())
+                    })?;
+                    p.st.warnings.extend(warnings);
+                    // The file's materials name its textures; renumber into the scene's.
+                    let base = p.add_decoded_textures(textures);
+                    for m in parts.iter_mut().filter_map(|(_, m)| m.as_mut()) {
+                        m.diffuse_texture = m.diffuse_texture.map(|t| shifted(t, base));
                     }
-                    "vertices" => vertices = Some(p.vector_list("vertices", "vertex")?),
-                    "normals" => {
-                        let n = p.vector_list("normals", "normal")?;
-                        normals = Some((n, span.start..p.prev_end()));
-                    }
-                    "triangles" => triangles = Some(p.triangle_list()?),
-                    other => return Err(p.unhandled(span, other, "mesh")),
+                    file = Some((parts, lights));
                 }
-                Ok(())
-            })?;
+                "vertices" => vertices = Some(p.vector_list("vertices", "vertex")?),
+                "normals" => {
+                    let n = p.vector_list("normals", "normal")?;
+                    normals = Some((n, span.start..p.prev_end()));
+                }
+                "triangles" => triangles = Some(p.triangle_list()?),
+                "shading" => shading = Some(p.shading()?),
+                other => return Err(p.unhandled(span, other, "mesh")),
+            }
+            Ok(())
+        })?;
         let mut obj = match file {
             Some((parts, lights)) => {
                 if let (Some((k, s)), Some(f)) = (inline_key, file_key) {
@@ -234,16 +245,58 @@ impl Parser<'_> {
                         })
                         .collect(),
                     lights,
+                    shading: shading.unwrap_or(Shading::Auto),
                 }
             }
             None => {
                 let v = self.required(vertices, "vertices", "mesh", &block)?;
                 let t = self.required(triangles, "triangles", "mesh", &block)?;
-                Object::single(Shape::Mesh(Rc::new(self.inline_mesh(v, normals, t)?)))
+                let mesh = self.inline_mesh(v, normals, t)?;
+                // Seed 003: a triangle without normals uses its own; normals that are
+                // given are kept (`Auto` keeps them). `shading` overrides either.
+                let default = if mesh.normals.is_some() { Shading::Auto } else { Shading::Flat };
+                Object { shading: shading.unwrap_or(default), ..Object::single(Shape::Mesh(Rc::new(mesh))) }
             }
         };
         mods.apply(&mut obj);
         Ok(obj)
+    }
+
+    /// `shading auto | flat | smooth [crease]` (the key already read); the crease is an
+    /// expression in degrees, `0..=180`, and defaults to [`DEFAULT_CREASE_DEG`]. It is
+    /// present unless the next token closes the block or is one of the block's keys.
+    fn shading(&mut self) -> R<Shading> {
+        const WORDS: [&str; 3] = ["auto", "flat", "smooth"];
+        let expected = "`auto`, `flat` or `smooth` after `shading`";
+        let (word, span) = self.name(expected)?;
+        match word.as_str() {
+            "auto" => Ok(Shading::Auto),
+            "flat" => Ok(Shading::Flat),
+            "smooth" => {
+                let crease_given = match self.peek() {
+                    Tok::Punct('}') | Tok::Eof => false,
+                    Tok::Name(n) => {
+                        !MESH_KEYS.contains(&n.as_str()) && !["material", "transform"].contains(&n.as_str())
+                    }
+                    _ => true,
+                };
+                let crease_deg = if crease_given {
+                    self.real_f32("crease angle", "it must lie in 0..=180 degrees", |x| {
+                        (0.0..=MAX_CREASE_DEG).contains(&x)
+                    })?
+                } else {
+                    DEFAULT_CREASE_DEG
+                };
+                Ok(Shading::Smooth { crease_deg })
+            }
+            other => {
+                let mut d = self.err(span, format!("unknown shading `{other}`")).label(format!("expected {expected}"));
+                if let Some(s) = did_you_mean(other, WORDS) {
+                    d = d.note(format!("did you mean `{s}`?"));
+                }
+                Err(d)
+            }
+        }
     }
 
     /// `{ n <v> … }`: a count then exactly that many vectors.
@@ -460,6 +513,9 @@ impl Parser<'_> {
         Ok((block, mods))
     }
 }
+
+/// The keys of a `mesh` block besides the modifiers.
+const MESH_KEYS: [&str; 5] = ["file", "vertices", "normals", "triangles", "shading"];
 
 /// A parsed triangle of an inline mesh.
 struct Tri {

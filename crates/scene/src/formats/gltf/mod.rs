@@ -170,8 +170,12 @@ pub fn load(path: &Path) -> Result<LoadReport, LoadError> {
         // The node's world matrix stays on the actor (the frame applies it, as this loader
         // once did per primitive: same matrix, same bits). `Transform::new` even for an
         // identity matrix, because that is what was always applied.
-        let actor =
-            Actor { name, mesh: actor_mesh, materials, transform: Transform::new(world), motion: Motion::Static };
+        let actor = Actor {
+            materials,
+            transform: Transform::new(world),
+            motion: Motion::Static,
+            ..Actor::new(name, actor_mesh, 0)
+        };
         actor.world_mesh().validate().map_err(|source| LoadError::Mesh { path: path.to_path_buf(), source })?;
         scene.actors.push(actor);
     }
