@@ -46,15 +46,13 @@ fn render_at(mut scene: Scene, width: u32, height: u32) -> Film {
     render(&frame, &bvh, &RenderOptions::default()).0
 }
 
-#[test]
-fn whitted_example_has_no_isolated_dark_pixels() {
-    let scene = load_file(&examples_dir().join("whitted.scn")).expect("load whitted.scn");
-    for (w, h) in [(640, 480), (800, 600), (1280, 720)] {
-        let film = render_at(scene.clone(), w, h);
-        let dark = isolated_dark(&film);
+/// Renders `scene` at each size and fails on any isolated dark pixel.
+fn assert_no_isolated_dark(scene: &Scene, name: &str, sizes: &[(u32, u32)]) {
+    for &(w, h) in sizes {
+        let dark = isolated_dark(&render_at(scene.clone(), w, h));
         assert!(
             dark.is_empty(),
-            "whitted.scn at {w}x{h}: {} isolated dark pixels, first {:?}",
+            "{name} at {w}x{h}: {} isolated dark pixels, first {:?}",
             dark.len(),
             &dark[..dark.len().min(8)]
         );
@@ -62,15 +60,14 @@ fn whitted_example_has_no_isolated_dark_pixels() {
 }
 
 #[test]
+fn whitted_example_has_no_isolated_dark_pixels() {
+    let scene = load_file(&examples_dir().join("whitted.scn")).expect("load whitted.scn");
+    assert_no_isolated_dark(&scene, "whitted.scn", &[(640, 480), (800, 600), (1280, 720)]);
+}
+
+#[test]
 fn demo_has_no_isolated_dark_pixels() {
-    let film = render_at(demo_scene(), 800, 600);
-    let dark = isolated_dark(&film);
-    assert!(
-        dark.is_empty(),
-        "demo at 800x600: {} isolated dark pixels, first {:?}",
-        dark.len(),
-        &dark[..dark.len().min(8)]
-    );
+    assert_no_isolated_dark(&demo_scene(), "demo", &[(800, 600), (1280, 720)]);
 }
 
 /// The pixel the issue reported, (160, 182) of whitted.scn at 640 × 480, was (51, 51, 51)
