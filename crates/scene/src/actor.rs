@@ -3,6 +3,7 @@
 //! geometry, so that animation can change placement or shape per frame without
 //! re-reading or re-baking the source.
 
+use crate::animation::Deformation;
 use crate::{NormalSource, Shading, Transform};
 use dynray_geom::{Aabb, TriangleMesh, Vec3};
 
@@ -10,9 +11,9 @@ use dynray_geom::{Aabb, TriangleMesh, Vec3};
 ///
 /// Acceleration structures can keep what they built for [`Motion::Static`] actors and
 /// refit or rebuild only the parts of the frame that belong to [`Motion::Dynamic`] ones
-/// (the frame's [`crate::Frame::actor_ranges`] say which triangles those are). Every loader
-/// gives [`Motion::Static`] today; animation (keyframes, glTF skins and morphs, BART,
-/// point-based physics) sets [`Motion::Dynamic`] on the actors it moves.
+/// (the frame's [`crate::Frame::actor_ranges`] say which triangles those are). Loaders set
+/// [`Motion::Dynamic`] on the actors animation moves (a moving [`Actor::node`], a
+/// [`Actor::deform`]) and, in the scene language, where the file says so.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Motion {
     /// The same world geometry at every time `t`.
@@ -41,6 +42,11 @@ pub struct Actor {
     pub shading: Shading,
     /// What `mesh.normals` holds: the source's normals, generated ones, or none.
     pub normal_source: NormalSource,
+    /// The node of [`crate::Scene::animation`]'s rig that places the actor: its world
+    /// matrix at `t` replaces [`Actor::transform`] (which holds the rest placement).
+    pub node: Option<u32>,
+    /// What moves the actor's vertices, if anything (`animation/deform.rs`).
+    pub deform: Option<Deformation>,
 }
 
 impl Actor {
@@ -57,6 +63,8 @@ impl Actor {
             motion: Motion::Static,
             shading: Shading::Auto,
             normal_source,
+            node: None,
+            deform: None,
         }
     }
 

@@ -3,12 +3,12 @@
 //!
 //! Order is the contract structures rely on to refit instead of rebuilding: triangles
 //! come in actor order, then in each actor's own triangle order, for every `t`; vertices
-//! likewise. Nothing here depends on `t` yet. Animation plugs in per actor, where the
-//! actor's placement and vertices are read (see the comment in [`Scene::frame_into`]):
-//! a [`crate::Motion::Dynamic`] actor will get its transform, or its deformed local
-//! vertices, for `t` there, without changing its triangle count or order.
+//! likewise. Time enters through [`Scene::animation`] (`animation/`): the rig's node
+//! matrices at `t` place actors with a [`crate::Actor::node`], lights and the camera; an
+//! actor's [`crate::Actor::deform`] poses its vertices (keys, morphs, skin) — never
+//! changing its triangle count or order.
 
-use crate::{Camera, Environment, Light, Material, Projection, Scene, Settings, Texture};
+use crate::{Camera, Environment, Light, Material, Projection, Scene, Settings, Texture, Transform};
 use dynray_geom::{TriangleMesh, Vec3};
 use std::ops::Range;
 use std::sync::Arc;
@@ -107,30 +107,70 @@ impl Scene {
         normals.clear();
         let mut uvs = mesh.uvs.take().unwrap_or_default();
         uvs.clear();
+        let rig = &self.animation.rig;
+        let mut world = Vec::new();
+        if !rig.nodes.is_empty() {
+            rig.world_matrices(t, &mut world);
+        }
+        let mut scratch = Vec::new();
         for a in &self.actors {
-            // Animation plugs in here: a `Motion::Dynamic` actor's transform (keyframes,
-            // glTF node animation) or local vertices (skins, morphs, physics) at `t`
-            // replace `a.transform` / `a.mesh.positions` below. Static actors, and every
-            // actor today, are read as they are.
             let base = mesh.positions.len() as u32;
             let first = mesh.indices.len() as u32;
-            if a.transform.is_identity() {
-                mesh.positions.extend_from_slice(&a.mesh.positions);
-            } else {
-                mesh.positions.extend(a.mesh.positions.iter().map(|&p| a.transform.point(p)));
+            // A node's world matrix at `t` places the actor; else its own transform.
+            let placement = match a.node.and_then(|n| world.get(n as usize)) {
+                Some(m) => Transform::new(*m),
+                None => a.transform,
+            };
+            match &a.deform {
+                None => {
+                    if placement.is_identity() {
+                        mesh.positions.extend_from_slice(&a.mesh.positions);
+                    } else {
+                        mesh.positions.extend(a.mesh.positions.iter().map(|&p| placement.point(p)));
+                    }
+                    if any_normals {
+                        match &a.mesh.normals {
+                            Some(n) if placement.is_identity() => normals.extend_from_slice(n),
+                            Some(n) => {
+                                let to_world = placement.normal_fn();
+                                normals.extend(n.iter().map(|&v| to_world(v)));
+                            }
+                            None => normals.resize(normals.len() + a.mesh.vertex_count(), [0.0; 3]),
+                        }
+                    }
+                }
+                Some(d) => {
+                    let (vstart, nstart) = (mesh.positions.len(), normals.len());
+                    // Normals carried through the deformation: the file's own. Generated
+                    // ones are remade below from the posed positions.
+                    let carry = any_normals && a.mesh.normals.is_some() && d.smooth.is_none();
+                    d.pose(&a.mesh, rig, t, &world, &mut mesh.positions, carry.then_some(&mut normals));
+                    if !d.is_world_space() && !placement.is_identity() {
+                        for p in &mut mesh.positions[vstart..] {
+                            *p = placement.point(*p);
+                        }
+                        if carry {
+                            let to_world = placement.normal_fn();
+                            for n in &mut normals[nstart..] {
+                                *n = to_world(*n);
+                            }
+                        }
+                    }
+                    if any_normals && !carry {
+                        let posed = &mesh.positions[vstart..];
+                        match &d.smooth {
+                            Some(sm)
+                                if sm.compute(&posed[..sm.vertex_count() - sm.split_count()], &mut scratch).is_ok() =>
+                            {
+                                normals.extend_from_slice(&scratch)
+                            }
+                            _ => normals.resize(nstart + a.mesh.vertex_count(), [0.0; 3]),
+                        }
+                    }
+                }
             }
             mesh.indices.extend(a.mesh.indices.iter().map(|t| t.map(|i| i + base)));
             materials_of.extend_from_slice(&a.materials);
-            if any_normals {
-                match &a.mesh.normals {
-                    Some(n) if a.transform.is_identity() => normals.extend_from_slice(n),
-                    Some(n) => {
-                        let to_world = a.transform.normal_fn();
-                        normals.extend(n.iter().map(|&v| to_world(v)));
-                    }
-                    None => normals.resize(normals.len() + a.mesh.vertex_count(), [0.0; 3]),
-                }
-            }
             if any_uvs {
                 match &a.mesh.uvs {
                     Some(t) => uvs.extend_from_slice(t),
@@ -147,7 +187,15 @@ impl Scene {
         }
         frame.textures.clone_from(&self.textures);
         frame.lights.clone_from(&self.lights);
+        for &(light, node) in &self.animation.light_nodes {
+            if let (Some(l), Some(m)) = (frame.lights.get_mut(light), world.get(node as usize)) {
+                l.kind = l.kind.transformed(m);
+            }
+        }
         frame.camera = self.camera.unwrap_or_else(|| Camera::framing(&frame.mesh.bounds()));
+        if let Some(m) = self.animation.camera_node.and_then(|n| world.get(n as usize)) {
+            frame.camera = frame.camera.transformed(m);
+        }
         frame.settings = self.settings;
         frame.environment = self.environment;
         frame.time = t;

@@ -4,6 +4,7 @@
 #![forbid(unsafe_code)]
 
 mod actor;
+pub mod animation;
 mod default_view;
 pub mod demo;
 mod error;
@@ -19,6 +20,7 @@ pub mod texture;
 mod transform;
 
 pub use actor::{Actor, Motion};
+pub use animation::{Animation, Timeline};
 pub use error::LoadError;
 pub use frame::Frame;
 pub use load::{load_file, load_file_report, load_file_unshaded, load_mesh, FileFormat};

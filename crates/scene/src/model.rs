@@ -117,6 +117,25 @@ pub enum LightKind {
 }
 
 impl LightKind {
+    /// The light given in a node's space, in world space (`m`: the node's world
+    /// matrix): positions transformed as points, directions as vectors, kept unit length.
+    pub fn transformed(&self, m: &glam::Mat4) -> LightKind {
+        let dir = |d: Vec3| m.transform_vector3(d).normalize_or(d);
+        match *self {
+            LightKind::Point { position, falloff } => {
+                LightKind::Point { position: m.transform_point3(position), falloff }
+            }
+            LightKind::Directional { direction } => LightKind::Directional { direction: dir(direction) },
+            LightKind::Spot { position, direction, cos_inner, cos_outer, falloff } => LightKind::Spot {
+                position: m.transform_point3(position),
+                direction: dir(direction),
+                cos_inner,
+                cos_outer,
+                falloff,
+            },
+        }
+    }
+
     /// The share of the light's intensity sent towards `to_point`, a unit direction from
     /// the light: 1 for point and directional lights, the cone's smooth step for spots.
     pub fn cone_factor(&self, to_point: Vec3) -> f32 {
@@ -174,6 +193,19 @@ pub struct Camera {
     pub projection: Projection,
 }
 
+impl Camera {
+    /// The camera given in a node's space, in world space (`m`: the node's world matrix):
+    /// eye and target as points, up as a vector.
+    pub fn transformed(&self, m: &glam::Mat4) -> Camera {
+        Camera {
+            position: m.transform_point3(self.position),
+            look_at: m.transform_point3(self.look_at),
+            up: m.transform_vector3(self.up).normalize_or(self.up),
+            projection: self.projection,
+        }
+    }
+}
+
 /// Render settings (the seed's `RayTracerSettings`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Settings {
@@ -228,6 +260,8 @@ pub struct Scene {
     pub settings: Settings,
     /// Background, ambient, medium.
     pub environment: Environment,
+    /// Nodes, clips, skins and the timeline (`animation/`); empty for a still scene.
+    pub animation: crate::Animation,
 }
 
 impl Scene {

@@ -111,6 +111,11 @@ impl Actor {
         smooth.apply(&mut self.mesh)?;
         self.normal_source =
             NormalSource::Generated { crease_deg: smooth.crease_deg(), split_vertices: smooth.split_count() };
+        // A deforming actor's per-vertex arrays follow the split, and its normals are
+        // remade from each frame's positions with the same topology.
+        if let Some(d) = &mut self.deform {
+            d.gather(std::sync::Arc::new(smooth))?;
+        }
         Ok(())
     }
 }

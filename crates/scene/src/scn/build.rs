@@ -98,6 +98,8 @@ pub(crate) fn build(mut st: State, warnings: &mut Vec<Warning>) -> Result<Scene,
             materials,
             transform,
             motion: Motion::Static,
+            node: None,
+            deform: None,
             shading: entry.object.shading,
             ..Actor::new(entry.name, mesh, 0)
         };

@@ -174,6 +174,8 @@ pub fn load(path: &Path) -> Result<LoadReport, LoadError> {
             materials,
             transform: Transform::new(world),
             motion: Motion::Static,
+            node: None,
+            deform: None,
             ..Actor::new(name, actor_mesh, 0)
         };
         actor.world_mesh().validate().map_err(|source| LoadError::Mesh { path: path.to_path_buf(), source })?;
