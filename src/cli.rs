@@ -2,7 +2,7 @@
 
 use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::{Args, Parser, Subcommand};
-use dynray_accel::AccelSpec;
+use dynray_accel::{AccelSpec, UpdatePolicy};
 use dynray_bench::{BenchConfig, Preset, RayKind};
 use dynray_render::{Aov, IntegratorKind};
 use std::path::PathBuf;
@@ -27,9 +27,29 @@ pub enum Command {
     TraceRays(TraceRaysArgs),
     /// Print a file's counts and bounding box and an acceleration structure's figures.
     Info(InfoArgs),
+    /// Render the frames of an animated scene (.scn, .gltf/.glb, .aff) to numbered PNGs,
+    /// with per-frame timings and a preview.
+    Animate(AnimateArgs),
     /// Measure acceleration structures on test models: build, memory, Mrays/s, work per
     /// ray, time to image, heat maps; every structure checked against brute force.
     Bench(BenchArgs),
+}
+
+/// Which instant of an animated scene a command looks at (docs/animate.md, "Time").
+#[derive(Args, Debug, Default, Clone)]
+pub struct TimeArgs {
+    /// Time in seconds on the scene's own axis (default: the time of frame 0).
+    #[arg(long, value_name = "T", conflicts_with = "frame", allow_negative_numbers = true)]
+    pub time: Option<f32>,
+    /// Frame number: its time is the timeline's start + K / frame rate.
+    #[arg(long, value_name = "K")]
+    pub frame: Option<u32>,
+    /// Animation clip to play, by name, for files with several (default: the first).
+    #[arg(long, value_name = "NAME")]
+    pub clip: Option<String>,
+    /// Frame rate of the timeline, replacing the file's (glTF: 24 unless given).
+    #[arg(long, value_name = "R")]
+    pub fps: Option<f32>,
 }
 
 /// `dynray render`.
@@ -77,6 +97,8 @@ pub struct RenderArgs {
     #[arg(long, value_parser = PossibleValuesParser::new(Aov::NAMES)
         .map(|s| s.parse::<Aov>().expect("listed names parse")))]
     pub aov: Option<Aov>,
+    #[command(flatten)]
+    pub when: TimeArgs,
 }
 
 /// Default samples per pixel of `render`: enough for clean silhouettes and checker
@@ -110,6 +132,92 @@ pub struct TraceRaysArgs {
     /// (hit point) are (N, 3), NaN on a miss.
     #[arg(long, value_name = "LIST", value_delimiter = ',', default_value = "t,prim,u,v")]
     pub fields: Vec<HitField>,
+    #[command(flatten)]
+    pub when: TimeArgs,
+}
+
+/// `dynray animate` (docs/animate.md).
+#[derive(Args, Debug)]
+pub struct AnimateArgs {
+    /// Scene or mesh file (a still one renders the same image every frame).
+    pub scene: PathBuf,
+    /// Frames to render, `A..B` inclusive or one frame `K` (default: all of the timeline).
+    #[arg(long, value_name = "A..B", value_parser = parse_frame_range)]
+    pub frames: Option<(u32, u32)>,
+    /// Frame rate, replacing the file's (glTF: 24 unless given).
+    #[arg(long, value_name = "R")]
+    pub fps: Option<f32>,
+    /// Animation clip to play, by name (default: the first).
+    #[arg(long, value_name = "NAME")]
+    pub clip: Option<String>,
+    /// Output folder: frame_NNNN.png, timings.csv, preview.gif (mesh_NNNN.obj).
+    #[arg(long, default_value = "frames")]
+    pub out: PathBuf,
+    /// Acceleration structure: `NAME[:key=value,…]` or `NAME:PRESET`.
+    #[arg(long, default_value = "bvh", value_parser = parse_accel)]
+    pub accel: AccelSpec,
+    /// How the structure follows the geometry: rebuild, refit, auto or auto:RATIO
+    /// (refit until the SAH cost exceeds RATIO × a fresh build's; default 1.3).
+    #[arg(long, default_value = "auto", value_parser = |s: &str| s.parse::<UpdatePolicy>())]
+    pub update: UpdatePolicy,
+    /// Image width in pixels (overrides the scene's settings).
+    #[arg(long, value_parser = edge_parser())]
+    pub width: Option<u32>,
+    /// Image height in pixels (overrides the scene's settings).
+    #[arg(long, value_parser = edge_parser())]
+    pub height: Option<u32>,
+    /// Samples per pixel.
+    #[arg(long, default_value_t = DEFAULT_SPP, value_parser = clap::value_parser!(u32).range(1..=MAX_SPP as i64))]
+    pub spp: u32,
+    /// How pixel samples are computed.
+    #[arg(long, default_value = "whitted", value_parser = PossibleValuesParser::new(IntegratorKind::NAMES)
+        .map(|s| s.parse::<IntegratorKind>().expect("listed names parse")))]
+    pub integrator: IntegratorKind,
+    /// Seed of the sample positions (the same for every frame).
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Render only the frames whose number is K modulo N (`K/N`, 0 <= K < N): one job
+    /// of an array job; the shards' frames together are a full run's, byte for byte.
+    #[arg(long, value_name = "K/N", value_parser = parse_shard)]
+    pub shard: Option<(u32, u32)>,
+    /// Skip frames whose PNG is already in the output folder (frames are written whole).
+    #[arg(long)]
+    pub resume: bool,
+    /// Also write each frame's world-space triangles as mesh_NNNN.obj.
+    #[arg(long)]
+    pub export_meshes: bool,
+    /// Shade every surface with its geometric normals (as render --flat-shading).
+    #[arg(long)]
+    pub flat_shading: bool,
+}
+
+/// `A..B` (inclusive) or `K`.
+fn parse_frame_range(s: &str) -> Result<(u32, u32), String> {
+    let num = |t: &str| {
+        t.trim().parse::<u32>().map_err(|_| format!("`{s}`: expected A..B or K with frame numbers (0, 1, 2, …)"))
+    };
+    let (a, b) = match s.split_once("..") {
+        Some((a, b)) => (num(a)?, num(b.strip_prefix('=').unwrap_or(b))?),
+        None => {
+            let k = num(s)?;
+            (k, k)
+        }
+    };
+    if a > b {
+        return Err(format!("`{s}`: the first frame is after the last"));
+    }
+    Ok((a, b))
+}
+
+/// `K/N` with `0 <= K < N`.
+fn parse_shard(s: &str) -> Result<(u32, u32), String> {
+    let bad = || format!("`{s}`: expected K/N with 0 <= K < N, as in 0/4");
+    let (k, n) = s.split_once('/').ok_or_else(bad)?;
+    let (k, n) = (k.trim().parse::<u32>().map_err(|_| bad())?, n.trim().parse::<u32>().map_err(|_| bad())?);
+    if n == 0 || k >= n {
+        return Err(bad());
+    }
+    Ok((k, n))
 }
 
 /// An array `trace-rays` can write for closest hits (docs/trace-rays.md).

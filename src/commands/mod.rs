@@ -1,8 +1,11 @@
 //! One module per subcommand; `run` applies the global options and dispatches.
 
+mod animate;
 mod bench;
 mod info;
+mod preview;
 mod render;
+mod time;
 mod trace_rays;
 
 use crate::cli::{Cli, Command};
@@ -20,6 +23,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Render(a) => render::run(a),
         Command::TraceRays(a) => trace_rays::run(a),
         Command::Info(a) => info::run(a),
+        Command::Animate(a) => animate::run(a),
         Command::Bench(a) => bench::run(a),
     }
 }

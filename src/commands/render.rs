@@ -29,7 +29,8 @@ pub fn run(a: RenderArgs) -> Result<()> {
         }
     }
     super::apply_shading(&mut scene, Path::new(&label))?;
-    let mut frame = scene.frame(0.0);
+    let time = super::time::apply(&mut scene, &label, &a.when)?;
+    let mut frame = scene.frame(time);
     let s = &mut frame.settings;
     if let Some(w) = a.width {
         s.width = w;

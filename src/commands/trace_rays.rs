@@ -21,7 +21,9 @@ pub fn run(a: TraceRaysArgs) -> Result<()> {
     let t_read = Instant::now();
     let rays = read_rays(&a.rays)?;
     // Hits need only the triangles: the file's vertices as they are, as `load_mesh`.
-    let frame = super::load_unshaded(&a.mesh)?.frame(0.0);
+    let mut scene = super::load_unshaded(&a.mesh)?;
+    let time = super::time::apply(&mut scene, &a.mesh.display().to_string(), &a.when)?;
+    let frame = scene.frame(time);
     let read = t_read.elapsed();
     let t0 = Instant::now();
     let accel =

@@ -28,6 +28,13 @@ pub trait Accel: Send + Sync {
     /// Shape of the structure, for `dynray info` and the bench.
     fn stats(&self) -> AccelStats;
 
+    /// The normalised SAH cost ([`AccelStats::sah_cost`]) alone, where the structure has
+    /// one: what the `auto` update policy reads every frame. The default computes every
+    /// statistic; structures override it with a cheaper walk.
+    fn sah_cost(&self) -> Option<f64> {
+        self.stats().sah_cost
+    }
+
     /// Checks every invariant the traversal relies on (structure-specific: children inside
     /// parents, every triangle reachable, indices in range, depth within the traversal
     /// stack, …) and returns [`Accel::stats`]. `mesh` is the mesh of the last build or

@@ -58,6 +58,7 @@ pub mod octree;
 mod registry;
 mod spec;
 pub mod structure_params;
+pub mod update;
 
 pub use accel::{Accel, AccelStats, InvalidStructure, LeafSizes};
 pub use apit::{ABuffer, Apit, ApitParams, Fragment};
@@ -73,3 +74,4 @@ pub use octree::{Octree, OctreeDescent, OctreeParams};
 pub use registry::AccelKind;
 pub use spec::{AccelSpec, BruteParams};
 pub use structure_params::{ParamKey, StructureParams};
+pub use update::{LiveAccel, UpdateAction, UpdatePolicy, UpdateReport};

@@ -29,6 +29,12 @@ pub enum AccelKind {
 }
 
 impl AccelKind {
+    /// Whether the structure depends on the observer (the A-PIT and the A-buffer centre
+    /// their cube on the eye), so a moving camera alone means an update.
+    pub fn is_view_dependent(self) -> bool {
+        matches!(self, AccelKind::Apit | AccelKind::ABuffer)
+    }
+
     /// All kinds, in the order listings show them.
     pub const ALL: &'static [AccelKind] = &[
         AccelKind::Brute,
