@@ -9,8 +9,9 @@
 //!   [`UpdatePolicy::DEFAULT_MAX_COST_RATIO`] of the cost the last fresh build had;
 //!   rebuild once it drifts past. SAH costs here are normalised by the root's surface
 //!   area ([`crate::AccelStats::sah_cost`]), so a tree that merely moved or scaled keeps
-//!   its cost and a tree whose boxes grew to overlap loses it. Structures that report no
-//!   SAH cost refit under `auto` as under `refit`. How the bound was chosen:
+//!   its cost and a tree whose boxes grew to overlap loses it. A structure reporting no
+//!   SAH cost would refit under `auto` as under `refit` (both refitting structures, BVH
+//!   and BIH, report one). How the bound was chosen:
 //!   docs/animate.md ("Update policies").
 //!
 //! A frame whose triangles are bit-identical to the last one's (a still scene, or the

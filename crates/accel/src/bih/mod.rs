@@ -29,6 +29,7 @@
 //! 14–21 ms, dragon 60 vs 78 ms), so 8 is the default; seed 000 found 10 best on the GPU.
 
 mod build;
+mod cost;
 mod node;
 mod params;
 mod refit;
@@ -144,7 +145,7 @@ impl Accel for Bih {
             max_depth: self.depth,
             primitive_refs: self.tris.len(),
             leaf_sizes,
-            sah_cost: None,
+            sah_cost: Bih::sah_cost(self),
             memory_bytes: self.memory_bytes(),
             extra: vec![
                 ("max_prims".into(), self.params.max_prims.to_string()),
@@ -152,6 +153,10 @@ impl Accel for Bih {
                 ("shrink".into(), shrink),
             ],
         }
+    }
+
+    fn sah_cost(&self) -> Option<f64> {
+        Bih::sah_cost(self)
     }
 
     /// Refits (same topology, new clip planes); see `refit.rs`.

@@ -1,0 +1,166 @@
+//! `dynray animate` and the `--time`/`--frame` options through the binary, on the skinned
+//! CesiumMan (glTF): frames move; shards together are a full run byte for byte; a run
+//! killed part-way and resumed gives the same frames; timings and exported meshes hold
+//! what they say; bad options fail clearly.
+
+mod support;
+
+use dynray_scene::load_file;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use support::{dynray, ok, scenes_dir};
+
+fn cesium_man() -> PathBuf {
+    scenes_dir().join("CesiumMan/glTF/CesiumMan.gltf")
+}
+
+/// Runs `animate` on CesiumMan into `out` at 96×72, one sample per pixel.
+fn animate(out: &Path, extra: &[&str]) -> std::process::Output {
+    let scene = cesium_man();
+    let mut args = vec!["animate", scene.to_str().unwrap(), "--out", out.to_str().unwrap()];
+    args.extend_from_slice(&["--width", "96", "--height", "72", "--spp", "1"]);
+    args.extend_from_slice(extra);
+    dynray(&args)
+}
+
+fn frames_in(dir: &Path) -> Vec<(String, Vec<u8>)> {
+    let mut v: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.file_name().unwrap().to_string_lossy().starts_with("frame_"))
+        .map(|p| (p.file_name().unwrap().to_string_lossy().into_owned(), std::fs::read(&p).unwrap()))
+        .collect();
+    v.sort();
+    v
+}
+
+#[test]
+fn shards_together_are_a_full_run_and_frames_move() {
+    let tmp = tempfile::tempdir().unwrap();
+    let full = tmp.path().join("full");
+    let sharded = tmp.path().join("sharded");
+    ok(animate(&full, &["--frames", "0..5"]));
+    for k in 0..3 {
+        ok(animate(
+            &sharded,
+            &["--frames", "0..5", "--shard", &format!("{k}/3"), "--accel", "bih", "--update", "refit"],
+        ));
+    }
+    let a = frames_in(&full);
+    assert_eq!(
+        a.iter().map(|(n, _)| n.as_str()).collect::<Vec<_>>(),
+        (0..6).map(|k| format!("frame_{k:04}.png")).collect::<Vec<_>>()
+    );
+    assert_eq!(a, frames_in(&sharded), "the shards' frames (another structure and policy) differ from a full run");
+    assert_ne!(a[0].1, a[3].1, "frame 3 looks like frame 0: nothing moved");
+    assert!(full.join("preview.gif").is_file());
+    assert!(sharded.join("timings_shard_2_of_3.csv").is_file());
+    // The last shard to finish completes the set and writes the preview.
+    assert!(sharded.join("preview.gif").is_file());
+    let gif = image::open(full.join("preview.gif")).unwrap();
+    assert_eq!((gif.width(), gif.height()), (96, 72));
+}
+
+#[test]
+fn timings_have_a_row_per_frame_and_meshes_are_the_frames() {
+    let tmp = tempfile::tempdir().unwrap();
+    ok(animate(tmp.path(), &["--frames", "2..4", "--export-meshes", "--update", "refit"]));
+    let csv = std::fs::read_to_string(tmp.path().join("timings.csv")).unwrap();
+    let rows: Vec<Vec<&str>> = csv.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    assert_eq!(
+        csv.lines().next().unwrap(),
+        "frame,time_s,pose_ms,update,update_ms,sah_ratio,render_ms,time_to_image_ms,rays"
+    );
+    assert_eq!(rows.iter().map(|r| r[0]).collect::<Vec<_>>(), ["2", "3", "4"]);
+    assert_eq!(rows.iter().map(|r| r[3]).collect::<Vec<_>>(), ["rebuilt", "refit", "refit"]);
+    assert!(rows.iter().all(|r| r[8].parse::<u64>().unwrap() >= 96 * 72));
+    // mesh_0003.obj holds frame 3's world-space vertices, bit for bit.
+    let mut scene = load_file(&cesium_man()).unwrap();
+    scene.apply_shading().unwrap();
+    let t: f32 = rows[1][1].parse().unwrap();
+    assert_eq!(t, scene.animation.timeline.time_of(3));
+    let frame = scene.frame(t);
+    let obj = std::fs::read_to_string(tmp.path().join("mesh_0003.obj")).unwrap();
+    let verts: Vec<[f32; 3]> = obj
+        .lines()
+        .filter_map(|l| l.strip_prefix("v "))
+        .map(|l| {
+            let v: Vec<f32> = l.split(' ').map(|x| x.parse().unwrap()).collect();
+            [v[0], v[1], v[2]]
+        })
+        .collect();
+    assert_eq!(verts.len(), frame.mesh.positions.len());
+    assert!(verts.iter().zip(&frame.mesh.positions).all(|(a, b)| a.map(f32::to_bits) == b.map(f32::to_bits)));
+    assert_eq!(obj.lines().filter(|l| l.starts_with("f ")).count(), frame.mesh.triangle_count());
+}
+
+#[test]
+fn a_killed_run_resumes_to_the_same_frames() {
+    let tmp = tempfile::tempdir().unwrap();
+    let full = tmp.path().join("full");
+    let resumed = tmp.path().join("resumed");
+    ok(animate(&full, &["--frames", "0..7"]));
+    // Kill a run once its first frame is on disk; frames are written whole or not at all.
+    let scene = cesium_man();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_dynray"))
+        .args(["animate", scene.to_str().unwrap(), "--out", resumed.to_str().unwrap(), "--frames", "0..7"])
+        .args(["--width", "96", "--height", "72", "--spp", "1", "--threads", "1"])
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let first = resumed.join("frame_0000.png");
+    let start = std::time::Instant::now();
+    while !first.is_file() && start.elapsed().as_secs() < 60 {
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    child.kill().ok();
+    child.wait().unwrap();
+    let out = ok(animate(&resumed, &["--frames", "0..7", "--resume"]));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("resuming") || frames_in(&resumed).len() == 8, "{stderr}");
+    assert_eq!(frames_in(&full), frames_in(&resumed));
+    // Every frame has exactly one timings row.
+    let csv = std::fs::read_to_string(resumed.join("timings.csv")).unwrap();
+    let mut frames: Vec<u32> = csv.lines().skip(1).map(|l| l.split(',').next().unwrap().parse().unwrap()).collect();
+    frames.sort();
+    frames.dedup();
+    assert!(frames.len() <= 8);
+}
+
+#[test]
+fn render_at_a_frame_is_render_at_its_time() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = cesium_man();
+    let s = scene.to_str().unwrap();
+    let (a, b) = (tmp.path().join("a.png"), tmp.path().join("b.png"));
+    let size = ["--width", "64", "--height", "48", "--spp", "1"];
+    ok(dynray(&[&["render", s, "-o", a.to_str().unwrap(), "--frame", "12"][..], &size].concat()));
+    ok(dynray(&[&["render", s, "-o", b.to_str().unwrap(), "--time", "0.5"][..], &size].concat()));
+    assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
+    let c = tmp.path().join("c.png");
+    ok(dynray(&[&["render", s, "-o", c.to_str().unwrap(), "--time", "0"][..], &size].concat()));
+    assert_ne!(std::fs::read(&a).unwrap(), std::fs::read(&c).unwrap());
+}
+
+#[test]
+fn bad_animate_options_fail_clearly() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = animate(tmp.path(), &["--frames", "5..2"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("the first frame is after the last"));
+    let o = animate(tmp.path(), &["--shard", "3/3"]);
+    assert_eq!(o.status.code(), Some(2));
+    let o = animate(tmp.path(), &["--frames", "0..100000"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        String::from_utf8_lossy(&o.stderr).contains("goes past the last frame"),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let o = animate(tmp.path(), &["--clip", "no such clip"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("no clip named `no such clip`"));
+    let o = animate(tmp.path(), &["--update", "sometimes"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(frames_in(tmp.path()).is_empty(), "a failed run left frames");
+}
