@@ -109,7 +109,7 @@ fn check_report(r: &Value) -> Vec<String> {
     match r["dynamic"]["runs"].as_array() {
         Some(runs) if !runs.is_empty() && frames > 0 => {
             for run in runs {
-                for series in ["rebuild_ms", "update_ms", "trace_ms", "time_to_image_ms"] {
+                for series in ["rebuild_ms", "update_ms", "trace_ms", "fresh_trace_ms", "time_to_image_ms"] {
                     let v = run[series].as_array().cloned().unwrap_or_default();
                     need(
                         &mut p,
@@ -126,6 +126,19 @@ fn check_report(r: &Value) -> Vec<String> {
                     &mut p,
                     run["verified"].as_u64().is_some_and(|n| n > 0),
                     format!("dynamic {}: nothing verified", run["accel"]),
+                );
+                // Refitting structures (BVH, BIH) report their drift every frame.
+                let sah = run["sah_ratio"].as_array().cloned().unwrap_or_default();
+                let want = if run["refits"] == true { frames } else { 0 };
+                need(
+                    &mut p,
+                    sah.len() == want && sah.iter().all(|x| num(x) > 0.0),
+                    format!("dynamic {} {}: sah_ratio has {} of {want} frames", run["scene"], run["accel"], sah.len()),
+                );
+                need(
+                    &mut p,
+                    matches!(run["motion"].as_str(), Some("wave" | "animation")),
+                    format!("dynamic {}: motion {}", run["scene"], run["motion"]),
                 );
             }
         }

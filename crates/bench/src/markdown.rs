@@ -232,18 +232,21 @@ pub fn render(r: &Report, png: bool) -> String {
     if let Some(d) = &r.dynamic {
         let _ = writeln!(
             s,
-            "## Preset dynamic — every vertex moves each frame ({} frames, {}×{})\n\n\
-             Medians over the frames. *update* is the structure's `update` (a refit where it has one); \
-             *rebuild* a full build; time to image = update + Whitted render.\n\n\
-             | scene | triangles | structure | rebuild ms | update ms | primary trace ms | time to image ms | Mrays/s frame 1 → last | checked |\n\
-             |---|--:|---|--:|--:|--:|--:|--:|--:|",
+            "## Preset dynamic — geometry moves each frame ({} frames, {}×{})\n\n\
+             Medians over the frames. *motion*: `wave` deforms every vertex of a still model, `animation` \
+             plays the file's own. *update* is the structure's `update` (a refit where it has one); \
+             *rebuild* a full build; time to image = update + Whitted render; *refit/fresh* the refit \
+             tree's primary trace time and SAH cost over a fresh build's on the same frame (last frame).\n\n\
+             | scene | motion | triangles | structure | rebuild ms | update ms | primary trace ms | time to image ms | Mrays/s frame 1 → last | refit/fresh trace, SAH | checked |\n\
+             |---|---|--:|---|--:|--:|--:|--:|--:|--:|--:|",
             d.frames, d.width, d.height
         );
         for run in &d.runs {
             let _ = writeln!(
                 s,
-                "| {} | {} | {} | {} | {} | {} | {} | {} → {} | {} |",
+                "| {} | {} | {} | {} | {} | {} | {} | {} | {} → {} | {} | {} |",
                 run.scene,
+                run.motion,
                 thousands(run.triangles as u64),
                 run.accel,
                 num(run.median_rebuild_ms),
@@ -252,11 +255,29 @@ pub fn render(r: &Report, png: bool) -> String {
                 num(run.median_time_to_image_ms),
                 num(run.first_frame_mrays_per_s),
                 num(run.last_frame_mrays_per_s),
+                drift(run),
                 thousands(run.verified as u64)
             );
         }
         let ext = if png { "png" } else { "svg" };
         let _ = writeln!(s, "\n![dynamic](dynamic.{ext})\n");
+        if d.runs.iter().any(|r| r.refits) {
+            let _ = writeln!(s, "![refit drift](dynamic-drift.{ext})\n");
+        }
     }
     s
+}
+
+/// The last frame's refit-over-fresh trace time and SAH cost of a refitting run
+/// (`—` for structures that rebuild).
+fn drift(run: &crate::report::DynamicRun) -> String {
+    if !run.refits {
+        return "—".into();
+    }
+    let trace = match (run.trace_ms.last(), run.fresh_trace_ms.last()) {
+        (Some(&t), Some(&f)) if f > 0.0 => format!("{:.2}", t / f),
+        _ => "—".into(),
+    };
+    let sah = run.sah_ratio.last().map_or("—".into(), |r| format!("{r:.2}"));
+    format!("{trace}, {sah}")
 }

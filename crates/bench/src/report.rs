@@ -422,6 +422,9 @@ pub struct DynamicResult {
 pub struct DynamicRun {
     /// Scene name.
     pub scene: String,
+    /// What moves it: `wave` (the preset's deformation of a still model) or `animation`
+    /// (the file's own).
+    pub motion: String,
     /// Triangles.
     pub triangles: usize,
     /// Structure.
@@ -435,6 +438,12 @@ pub struct DynamicRun {
     pub update_ms: Vec<f64>,
     /// Per frame: primary rays through the updated structure, ms.
     pub trace_ms: Vec<f64>,
+    /// Per frame: the same rays through a fresh build, ms (= `trace_ms` where `refits` is
+    /// false: the update was the fresh build).
+    pub fresh_trace_ms: Vec<f64>,
+    /// Per frame, where the structure refits and reports an SAH cost: the refit tree's
+    /// normalised SAH cost over the fresh build's (empty otherwise).
+    pub sah_ratio: Vec<f64>,
     /// Per frame: update + Whitted render, ms.
     pub time_to_image_ms: Vec<f64>,
     /// Medians of the four series.

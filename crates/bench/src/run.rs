@@ -128,6 +128,9 @@ fn write_charts(config: &BenchConfig, report: &Report) -> Result<()> {
     }
     if let Some(d) = &report.dynamic {
         charts::save(&presets::dynamic::chart(d), out, "dynamic", config.png)?;
+        if d.runs.iter().any(|r| r.refits) {
+            charts::save(&presets::dynamic::drift_chart(d), out, "dynamic-drift", config.png)?;
+        }
     }
     if let Some(s) = &report.seed003 {
         charts::save(&presets::seed003::chart(s), out, "seed003-speedup", config.png)?;

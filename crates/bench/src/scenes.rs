@@ -2,7 +2,7 @@
 //! into a [`Frame`] with a camera that frames them and at least one light.
 
 use anyhow::{bail, Context, Result};
-use dynray_scene::Frame;
+use dynray_scene::{Frame, Scene};
 use std::path::{Path, PathBuf};
 
 /// The models the bench knows by name, and their files under the scenes folder.
@@ -15,6 +15,10 @@ pub const KNOWN_SCENES: &[(&str, &str)] = &[
     ("cornell-box", "cornell-box/mcguire-obj/CornellBox-Original.obj"),
     ("duck", "Duck/glTF-Binary/Duck.glb"),
     ("cesium-man", "CesiumMan/glTF-Binary/CesiumMan.glb"),
+    ("morph-cube", "AnimatedMorphCube/glTF/AnimatedMorphCube.gltf"),
+    ("bart-kitchen", "bart/kitchen/aff/kitchen.aff"),
+    ("bart-robots", "bart/robot/aff/Robot.aff"),
+    ("bart-museum", "bart/museum/aff/museum5.aff"),
 ];
 
 /// The name of the built-in demo scene (mirror and glass spheres on a checkerboard, the
@@ -29,6 +33,9 @@ pub struct BenchScene {
     pub path: PathBuf,
     /// The flattened frame at t = 0 (camera resolved, lights present).
     pub frame: Frame,
+    /// The scene itself when it is animated (`Scene::is_animated`): the dynamic preset
+    /// poses it frame by frame.
+    pub animated: Option<Scene>,
 }
 
 /// Where the named models live: `explicit` if given, else `$DYNRAY_SCENES`, else
@@ -85,7 +92,12 @@ pub fn resolve(entry: &str, dir: Option<&Path>) -> Result<(String, PathBuf)> {
 pub fn demo() -> BenchScene {
     let mut scene = dynray_scene::demo::demo_scene();
     scene.add_default_light();
-    BenchScene { name: DEMO.to_string(), path: PathBuf::from("(built-in demo scene)"), frame: scene.frame(0.0) }
+    BenchScene {
+        name: DEMO.to_string(),
+        path: PathBuf::from("(built-in demo scene)"),
+        frame: scene.frame(0.0),
+        animated: None,
+    }
 }
 
 /// Loads a resolved scene; the frame gets the scene's camera or one framing its box,
@@ -96,8 +108,9 @@ pub fn load(name: &str, path: &Path) -> Result<BenchScene> {
         bail!("scene `{name}` ({}) has no triangles", path.display());
     }
     scene.add_default_light();
-    let frame = scene.frame(0.0);
-    Ok(BenchScene { name: name.to_string(), path: path.to_path_buf(), frame })
+    let frame = scene.frame(scene.animation.timeline.time_of(0));
+    let animated = scene.is_animated().then_some(scene);
+    Ok(BenchScene { name: name.to_string(), path: path.to_path_buf(), frame, animated })
 }
 
 /// Loads the scenes named in `names` (model names, files, or `demo`).

@@ -1,9 +1,11 @@
-//! `--preset dynamic`: every vertex of the model moves each frame (a travelling wave plus a
-//! twist about the vertical axis), and each structure is brought up to date by `update`
-//! (a refit where the structure has one, else a full rebuild); structures that refit are
-//! also rebuilt from scratch each frame, so both costs are known. Then primary rays are
-//! traced and a Whitted image rendered through the updated structure, and a sample of the
-//! primary rays is checked against brute force on the moved mesh.
+//! `--preset dynamic`: geometry moves each frame — a still model's every vertex (a
+//! travelling wave plus a twist about the vertical axis), or an animated file's own
+//! animation (glTF skins and node animation, BART) — and each structure is brought up to
+//! date by `update` (a refit where the structure has one, else a full rebuild);
+//! structures that refit are also rebuilt from scratch each frame, so both costs, and the
+//! refit tree's drift from a fresh one, are known. Then primary rays are traced and a
+//! Whitted image rendered through the updated structure, and a sample of the primary rays
+//! is checked against brute force on the moved mesh.
 
 use crate::config::BenchConfig;
 use crate::format::thousands;
@@ -52,15 +54,23 @@ pub fn deform(base: &TriangleMesh, f: usize, frames: usize) -> Vec<[f32; 3]> {
 /// every frame, and the slowest (A-buffers, kd-tree rebuilds) set the preset's length.
 pub const SIZE: (u32, u32) = (320, 240);
 
-/// Runs the preset (default: the bunny and the dragon at its 48k-triangle resolution, 60
-/// frames at 320×240; quick: dragon-res4, 4 frames at 128×96).
+/// Runs the preset (default: the bunny and the dragon at its 48k-triangle resolution,
+/// waved, and CesiumMan's skinned walk; 60 frames at 320×240; quick: dragon-res4 and
+/// CesiumMan, 4 frames at 128×96).
+///
+/// A still model gets the wave ([`deform`]), its camera and primary rays fixed; an
+/// animated file (`BenchScene::animated`) is posed at `frames` times spread evenly over
+/// its timeline, and each frame's camera gives that frame's primary rays. Structures
+/// that refit are also built afresh each frame, and the fresh build traces the same rays:
+/// the refit tree's trace time and SAH cost over the fresh tree's are the drift that
+/// `dynray animate --update auto` watches (docs/animate.md).
 pub fn run(config: &BenchConfig, accels: &[AccelSpec], mismatches: &mut Vec<Mismatch>) -> Result<DynamicResult> {
     let names: Vec<String> = if !config.scenes.is_empty() {
         config.scenes.clone()
     } else if config.quick {
-        vec!["dragon-res4".into()]
+        vec!["dragon-res4".into(), "cesium-man".into()]
     } else {
-        vec!["bunny".into(), "dragon-res3".into()]
+        vec!["bunny".into(), "dragon-res3".into(), "cesium-man".into()]
     };
     let (width, height) = if config.size_given || config.quick { (config.width, config.height) } else { SIZE };
     let frames = config.frames.max(1);
@@ -69,44 +79,58 @@ pub fn run(config: &BenchConfig, accels: &[AccelSpec], mismatches: &mut Vec<Mism
     let mut runs = Vec::new();
     for sc in &scenes {
         let base = &sc.frame.mesh;
-        // Camera and rays fixed from the rest pose: the deformation stays near its box.
-        let primary = rays::primary(&sc.frame, width, height);
-        let sets = RaySets { sets: vec![(RayKind::Primary, primary)] };
-        let rays = &sets.sets[0].1;
+        let motion = if sc.animated.is_some() { "animation" } else { "wave" };
         for v in accels {
             let label = v.to_string();
-            let mut accel: Box<dyn Accel> = v
-                .build(&sc.frame.mesh, Some(sc.frame.camera.position))
-                .with_context(|| format!("{}: cannot build {label}", sc.name))?;
             let mut frame = sc.frame.clone();
             frame.settings.width = width;
             frame.settings.height = height;
+            let mut accel: Box<dyn Accel> = v
+                .build(&frame.mesh, Some(frame.camera.position))
+                .with_context(|| format!("{}: cannot build {label}", sc.name))?;
             let mut brute = Brute::build(base).with_context(|| format!("{}: cannot build brute", sc.name))?;
-            let (mut rebuild, mut update, mut trace, mut tti) = (vec![], vec![], vec![], vec![]);
+            let mut series = FrameSeries::default();
             let mut verified = 0;
             for f in 0..frames {
                 bar.set_message(format!("dynamic {} / {label}: frame {}", sc.name, f + 1));
-                frame.mesh.positions = deform(base, f, frames);
+                match &sc.animated {
+                    Some(scene) => scene.frame_into(frame_time(scene, f, frames), &mut frame),
+                    None => frame.mesh.positions = deform(base, f, frames),
+                }
+                frame.settings.width = width;
+                frame.settings.height = height;
+                let eye = frame.camera.position;
+                // Camera rays of this frame (an animated camera moves; the wave's stays).
+                let sets = RaySets { sets: vec![(RayKind::Primary, rays::primary(&frame, width, height))] };
+                let rays = &sets.sets[0].1;
                 let t = Instant::now();
-                accel.update(&frame.mesh).with_context(|| format!("{} frame {f}: update {label}", sc.name))?;
+                accel
+                    .update_for_eye(&frame.mesh, eye)
+                    .with_context(|| format!("{} frame {f}: update {label}", sc.name))?;
                 let up = ms(t);
-                update.push(up);
+                series.update.push(up);
+                let trace = timed_pass(accel.as_ref(), rays, false).0;
+                series.trace.push(trace);
                 // Without a refit, `update` is the rebuild: timing another would double
                 // the preset's cost and measure the same thing.
                 if accel.update_refits() {
                     let t = Instant::now();
-                    black_box(
-                        v.build(&frame.mesh, Some(frame.camera.position))
-                            .with_context(|| format!("{} frame {f}: rebuild {label}", sc.name))?,
-                    );
-                    rebuild.push(ms(t));
+                    let fresh = v
+                        .build(&frame.mesh, Some(eye))
+                        .with_context(|| format!("{} frame {f}: rebuild {label}", sc.name))?;
+                    series.rebuild.push(ms(t));
+                    series.fresh_trace.push(timed_pass(fresh.as_ref(), rays, false).0);
+                    if let (Some(now), Some(best)) = (accel.sah_cost(), fresh.sah_cost()) {
+                        series.sah_ratio.push(now / best);
+                    }
+                    black_box(fresh);
                 } else {
-                    rebuild.push(up);
+                    series.rebuild.push(up);
+                    series.fresh_trace.push(trace);
                 }
-                trace.push(timed_pass(accel.as_ref(), rays, false).0);
                 let t = Instant::now();
                 black_box(render(&frame, accel.as_ref(), &RenderOptions::default()));
-                tti.push(up + ms(t));
+                series.tti.push(up + ms(t));
                 brute.update(&frame.mesh)?;
                 let scene = format!("{} (dynamic frame {f})", sc.name);
                 for e in oracle(&brute, &sets, Some(VERIFY_PER_FRAME)) {
@@ -114,10 +138,13 @@ pub fn run(config: &BenchConfig, accels: &[AccelSpec], mismatches: &mut Vec<Mism
                 }
                 bar.inc(1);
             }
-            let mrays = |t: f64| if t > 0.0 { rays.len() as f64 / t / 1e3 } else { 0.0 };
+            let rays_per_frame = (width as usize * height as usize) as f64;
+            let mrays = |t: f64| if t > 0.0 { rays_per_frame / t / 1e3 } else { 0.0 };
+            let FrameSeries { rebuild, update, trace, fresh_trace, sah_ratio, tti } = series;
             runs.push(DynamicRun {
                 refits: accel.update_refits(),
                 scene: sc.name.clone(),
+                motion: motion.to_string(),
                 triangles: base.triangle_count(),
                 accel: label,
                 median_rebuild_ms: median(&rebuild),
@@ -129,6 +156,8 @@ pub fn run(config: &BenchConfig, accels: &[AccelSpec], mismatches: &mut Vec<Mism
                 rebuild_ms: rebuild,
                 update_ms: update,
                 trace_ms: trace,
+                fresh_trace_ms: fresh_trace,
+                sah_ratio,
                 time_to_image_ms: tti,
                 verified,
             });
@@ -136,6 +165,28 @@ pub fn run(config: &BenchConfig, accels: &[AccelSpec], mismatches: &mut Vec<Mism
     }
     bar.finish_and_clear();
     Ok(DynamicResult { frames, width, height, runs })
+}
+
+/// Per-frame figures of one structure on one scene.
+#[derive(Default)]
+struct FrameSeries {
+    rebuild: Vec<f64>,
+    update: Vec<f64>,
+    trace: Vec<f64>,
+    fresh_trace: Vec<f64>,
+    sah_ratio: Vec<f64>,
+    tti: Vec<f64>,
+}
+
+/// Time of preset frame `f` of `frames`: spread evenly from the timeline's first frame
+/// to its last (one frame: the first).
+pub fn frame_time(scene: &dynray_scene::Scene, f: usize, frames: usize) -> f32 {
+    let tl = scene.animation.timeline;
+    let (t0, t1) = (tl.time_of(0), tl.time_of(tl.frames - 1));
+    if frames <= 1 {
+        return t0;
+    }
+    t0 + (t1 - t0) * f as f32 / (frames - 1) as f32
 }
 
 /// Time to image per frame (update + render), one line per structure, one panel per
@@ -158,7 +209,11 @@ pub fn chart(d: &DynamicResult) -> LineChart {
                 reference: true,
             }));
             let tris = runs.first().map_or(0, |r| r.triangles);
-            Panel { title: format!("{scene} ({} triangles, every vertex moves)", thousands(tris as u64)), series }
+            let motion = match runs.first().map(|r| r.motion.as_str()) {
+                Some("animation") => "its own animation",
+                _ => "every vertex moves",
+            };
+            Panel { title: format!("{scene} ({} triangles, {motion})", thousands(tris as u64)), series }
         })
         .collect();
     LineChart {
@@ -170,6 +225,53 @@ pub fn chart(d: &DynamicResult) -> LineChart {
         y_desc: "ms".into(),
         log2_x: false,
         log_y: true,
+        y_from_zero: false,
+        panels,
+    }
+}
+
+/// Refit drift per frame, one panel per scene: for each structure that refits, its SAH
+/// cost and its primary trace time over a fresh build's on the same frame (1 = as good
+/// as rebuilding). The data behind the `auto` update policy's bound (docs/animate.md).
+pub fn drift_chart(d: &DynamicResult) -> LineChart {
+    let mut scenes: Vec<&str> = d.runs.iter().map(|r| r.scene.as_str()).collect();
+    scenes.dedup();
+    let panels = scenes
+        .iter()
+        .map(|&scene| {
+            let runs: Vec<&DynamicRun> = d.runs.iter().filter(|r| r.scene == scene && r.refits).collect();
+            let mut series = Vec::new();
+            for r in &runs {
+                let ratio: Vec<(f64, f64)> = r
+                    .trace_ms
+                    .iter()
+                    .zip(&r.fresh_trace_ms)
+                    .enumerate()
+                    .filter(|(_, (_, &f))| f > 0.0)
+                    .map(|(i, (&t, &f))| ((i + 1) as f64, t / f))
+                    .collect();
+                series.push(Series {
+                    name: format!("{}: trace time / fresh", r.accel),
+                    points: ratio,
+                    reference: false,
+                });
+                if !r.sah_ratio.is_empty() {
+                    let points = r.sah_ratio.iter().enumerate().map(|(i, &x)| ((i + 1) as f64, x)).collect();
+                    series.push(Series { name: format!("{}: SAH cost / fresh", r.accel), points, reference: true });
+                }
+            }
+            Panel { title: scene.to_string(), series }
+        })
+        .collect();
+    LineChart {
+        caption: format!(
+            "dynamic: refit tree over a fresh build, per frame ({}x{} primary rays; 1 = as good as a rebuild)",
+            d.width, d.height
+        ),
+        x_desc: "frame".into(),
+        y_desc: "refit / fresh".into(),
+        log2_x: false,
+        log_y: false,
         y_from_zero: false,
         panels,
     }
