@@ -18,7 +18,7 @@ pub fn run(a: InfoArgs) -> Result<()> {
     let t0 = Instant::now();
     let mut scene = super::load_unshaded(&a.file)?;
     let load_ms = t0.elapsed().as_secs_f64() * 1e3;
-    let frame = scene.frame(0.0);
+    let frame = scene.frame(scene.animation.timeline.time_of(0));
     let t1 = Instant::now();
     super::apply_shading(&mut scene, &a.file)?;
     let shading_ms = t1.elapsed().as_secs_f64() * 1e3;
@@ -39,6 +39,7 @@ pub fn run(a: InfoArgs) -> Result<()> {
     }
     writeln!(out, "lights      {}", thousands(frame.lights.len()))?;
     writeln!(out, "normals     {}", normals_summary(&scene, shading_ms))?;
+    writeln!(out, "animation   {}", animation_summary(&scene))?;
     writeln!(
         out,
         "bounds      [{:.6}, {:.6}, {:.6}] .. [{:.6}, {:.6}, {:.6}]",
@@ -129,4 +130,37 @@ fn normals_summary(scene: &Scene, shading_ms: f64) -> String {
         summary += &format!(", in {shading_ms:.1} ms");
     }
     summary
+}
+
+/// One line on what moves: frames and rate, clips, nodes, skins, dynamic actors.
+fn animation_summary(scene: &Scene) -> String {
+    if !scene.is_animated() {
+        return "none (a still scene)".into();
+    }
+    let a = &scene.animation;
+    let t = a.timeline;
+    let mut parts = vec![format!(
+        "{} frames at {} fps from {} s to {} s",
+        thousands(t.frames as usize),
+        t.frame_rate,
+        t.time_of(0),
+        t.time_of(t.frames - 1)
+    )];
+    let clips = &a.rig.clips;
+    if clips.len() > 1 {
+        let names: Vec<String> =
+            clips.iter().enumerate().map(|(i, c)| c.name.clone().unwrap_or_else(|| format!("#{i}"))).collect();
+        parts.push(format!("clips {} (playing {})", names.join(", "), names[a.rig.active_clip.min(names.len() - 1)]));
+    } else if let Some(name) = clips.first().and_then(|c| c.name.as_deref()) {
+        parts.push(format!("clip {name}"));
+    }
+    if !a.rig.nodes.is_empty() {
+        parts.push(format!("{} nodes", thousands(a.rig.nodes.len())));
+    }
+    if !a.rig.skins.is_empty() {
+        parts.push(format!("{} skins", a.rig.skins.len()));
+    }
+    let dynamic = scene.actors.iter().filter(|x| x.motion == dynray_scene::Motion::Dynamic).count();
+    parts.push(format!("{dynamic} of {} actors dynamic", scene.actors.len()));
+    parts.join("; ")
 }
