@@ -56,7 +56,10 @@ pub(super) fn check_indices(json: &gltf::json::Root) -> Result<(), String> {
         let label = skin_label(s, skin.name.as_deref());
         for (j, joint) in skin.joints.iter().enumerate() {
             if joint.value() >= nodes {
-                return Err(format!("{label}: joint {j} names node {}, which does not exist ({nodes} nodes)", joint.value()));
+                return Err(format!(
+                    "{label}: joint {j} names node {}, which does not exist ({nodes} nodes)",
+                    joint.value()
+                ));
             }
         }
         if let Some(ibm) = skin.inverse_bind_matrices {
@@ -71,7 +74,9 @@ pub(super) fn check_indices(json: &gltf::json::Root) -> Result<(), String> {
     for (m, mesh) in json.meshes.iter().enumerate() {
         for (p, prim) in mesh.primitives.iter().enumerate() {
             for (t, target) in prim.targets.iter().flatten().enumerate() {
-                for (what, acc) in [("POSITION", target.positions), ("NORMAL", target.normals), ("TANGENT", target.tangents)] {
+                for (what, acc) in
+                    [("POSITION", target.positions), ("NORMAL", target.normals), ("TANGENT", target.tangents)]
+                {
                     if let Some(acc) = acc {
                         accessor(format!("mesh {m} primitive {p}: morph target {t} {what}"), acc.value())?;
                     }
@@ -159,7 +164,9 @@ pub(super) fn read_clips(
                 warnings.push(Warning::new(
                     path,
                     None,
-                    format!("{here}: animates the weights of node {gnode}, which has no morph targets; channel ignored"),
+                    format!(
+                        "{here}: animates the weights of node {gnode}, which has no morph targets; channel ignored"
+                    ),
                 ));
                 continue;
             }
@@ -169,7 +176,8 @@ pub(super) fn read_clips(
                 ));
             }
             let output = sampler.output();
-            check_accessor_with(&output, dims, types, true, buffers).map_err(|m| format!("{here}: values (output): {m}"))?;
+            check_accessor_with(&output, dims, types, true, buffers)
+                .map_err(|m| format!("{here}: values (output): {m}"))?;
             if output.data_type() != DataType::F32 && !output.normalized() {
                 return Err(format!(
                     "{here}: values (output): accessor {} is an integer type but not normalized",

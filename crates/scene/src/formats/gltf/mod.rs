@@ -32,8 +32,9 @@
 //!   displacements deform the mesh with its node's weights (`node.weights`, else
 //!   `mesh.weights`, else zeros at rest). A mesh's primitives are one actor, so their
 //!   deformation arrays are concatenated likewise. Actors that move are marked
-//!   [`Motion::Dynamic`]. Not read: sparse accessors, `TANGENT` displacements, cameras,
-//!   and lights on animated nodes stay at their rest placement.
+//!   [`Motion::Dynamic`]. Not read: sparse accessors (sparse morph targets are a warning
+//!   and the mesh keeps its base shape), `TANGENT` displacements, cameras; lights on
+//!   animated nodes stay at their rest placement.
 //! - Materials (`material.rs`): `baseColorFactor` RGB becomes the colour of a
 //!   [`crate::Finish::default`] material; with `alphaMode: BLEND` its alpha gives
 //!   `transparency = 1 - alpha`. The `baseColorTexture` (sRGB) multiplies that colour, as
@@ -65,9 +66,9 @@ mod material;
 mod skin;
 mod uri;
 
+use crate::animation::{Node, NodePose, Rig};
 use crate::report::{LoadReport, Warning};
 use crate::texture::untexture_where_no_uvs;
-use crate::animation::{Node, NodePose, Rig};
 use crate::{Actor, LoadError, Material, Motion, Scene, Timeline, Transform};
 use dynray_geom::{MeshError, TriangleMesh};
 use std::path::Path;

@@ -12,8 +12,8 @@ use super::accessor::{check_accessor_with, read_components};
 use super::animation::skin_label;
 use crate::animation::{Deformation, Morph, MorphTarget, Skin, SkinBinding};
 use crate::report::Warning;
-use gltf::accessor::{DataType, Dimensions};
 use glam::Mat4;
+use gltf::accessor::{DataType, Dimensions};
 use std::path::Path;
 
 /// The skin `skin` of the file with its joints mapped to rig nodes (`rig_of`); every
@@ -64,8 +64,10 @@ pub(super) struct MeshDeform {
     positions: Vec<Vec<[f32; 3]>>,
     normals: Vec<Vec<[f32; 3]>>,
     any_target_normals: bool,
-    vertices: usize,
     warned_second_set: bool,
+    /// A target accessor is sparse (not read): the mesh's morph targets are dropped, and
+    /// it keeps its base shape, as before animation was read.
+    sparse_targets: bool,
 }
 
 /// The number of morph targets of `mesh` (the most any primitive has; glTF asks them
@@ -85,8 +87,8 @@ impl MeshDeform {
             positions: vec![Vec::new(); targets],
             normals: vec![Vec::new(); targets],
             any_target_normals: false,
-            vertices: 0,
             warned_second_set: false,
+            sparse_targets: false,
         }
     }
 
@@ -104,7 +106,8 @@ impl MeshDeform {
         if let Some((skin, joint_count)) = self.skin {
             let joints = prim.get(&gltf::Semantic::Joints(0));
             let weights = prim.get(&gltf::Semantic::Weights(0));
-            let second = prim.get(&gltf::Semantic::Joints(1)).is_some() || prim.get(&gltf::Semantic::Weights(1)).is_some();
+            let second =
+                prim.get(&gltf::Semantic::Joints(1)).is_some() || prim.get(&gltf::Semantic::Weights(1)).is_some();
             if second && !std::mem::replace(&mut self.warned_second_set, true) {
                 warnings.push(Warning::new(
                     path,
@@ -114,10 +117,11 @@ impl MeshDeform {
             }
             match (joints, weights) {
                 (Some(j), Some(w)) => {
-                    let jw = read_influences(&j, &w, vertices, buffers)
-                        .map_err(|m| format!("{label}: {m}"))?;
+                    let jw = read_influences(&j, &w, vertices, buffers).map_err(|m| format!("{label}: {m}"))?;
                     for (v, (js, ws)) in jw.0.iter().zip(&jw.1).enumerate() {
-                        if let Some((&bad, _)) = js.iter().zip(ws).find(|(&j, &w)| w != 0.0 && j as usize >= joint_count) {
+                        if let Some((&bad, _)) =
+                            js.iter().zip(ws).find(|(&j, &w)| w != 0.0 && j as usize >= joint_count)
+                        {
                             return Err(format!(
                                 "{label}: JOINTS_0 of vertex {v} names joint {bad}, but skin {skin} has {joint_count} joints"
                             ));
@@ -137,6 +141,17 @@ impl MeshDeform {
             }
         }
         let targets: Vec<_> = prim.morph_targets().collect();
+        let sparse = targets.iter().flat_map(|t| [t.positions(), t.normals()]).flatten().any(|a| a.sparse().is_some());
+        if sparse && !std::mem::replace(&mut self.sparse_targets, true) {
+            warnings.push(Warning::new(
+                path,
+                None,
+                format!("{label}: a morph target accessor is sparse, which dynray does not read; the mesh keeps its base shape"),
+            ));
+        }
+        if self.sparse_targets {
+            return Ok(());
+        }
         for (t, (pos, nrm)) in self.positions.iter_mut().zip(self.normals.iter_mut()).enumerate() {
             let target = targets.get(t);
             for (what, acc, out) in [
@@ -161,7 +176,6 @@ impl MeshDeform {
                 }
             }
         }
-        self.vertices += vertices;
         Ok(())
     }
 
@@ -169,7 +183,7 @@ impl MeshDeform {
     /// target normals are kept only when the actor's mesh has normals to displace.
     pub(super) fn finish(self, node: u32, mesh_has_normals: bool) -> Option<Deformation> {
         let keep_normals = mesh_has_normals && self.any_target_normals;
-        let morph = (!self.positions.is_empty()).then(|| Morph {
+        let morph = (!self.positions.is_empty() && !self.sparse_targets).then(|| Morph {
             node,
             targets: self
                 .positions
