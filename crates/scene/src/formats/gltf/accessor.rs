@@ -1,5 +1,7 @@
 //! Reading a primitive's accessors (positions, normals, TEXCOORD_0, indices) into a
-//! [`TriangleMesh`], every accessor checked before gltf slices it.
+//! [`TriangleMesh`], every accessor checked before gltf slices it; and
+//! [`read_components`], which reads any checked accessor as numbers (animation keys,
+//! skin joints and weights, morph displacements, inverse bind matrices).
 
 use super::uri::view_bytes;
 use dynray_geom::TriangleMesh;
@@ -88,7 +90,7 @@ fn check_accessor(
 }
 
 /// [`check_accessor`], allowing normalised integers when `normalized_ok`.
-fn check_accessor_with(
+pub(super) fn check_accessor_with(
     acc: &gltf::Accessor,
     dims: Dimensions,
     types: &[DataType],
@@ -125,6 +127,76 @@ fn check_accessor_with(
     }
     view_bytes(&view, buffers)?;
     Ok(())
+}
+
+/// Every component of every element of `acc`, in order, as `f32`: floats as they are,
+/// normalised integers mapped to [0, 1] or [-1, 1] by glTF's rules (§3.11: `c / 255`,
+/// `max(c / 127, -1)`, …), plain integers as their value. Call [`check_accessor_with`]
+/// first: this relies on its bounds check and slices only inside the checked range.
+pub(super) fn read_components(acc: &gltf::Accessor, buffers: &[Vec<u8>]) -> Result<Vec<f32>, String> {
+    let view = acc.view().ok_or_else(|| format!("accessor {} has no buffer view", acc.index()))?;
+    let bytes = view_bytes(&view, buffers)?;
+    let size = acc.size();
+    let stride = view.stride().unwrap_or(size);
+    let n = acc.dimensions().multiplicity();
+    let csize = acc.data_type().size();
+    // Matrices of 1- and 2-byte components pad their columns to 4 bytes (§3.6.2.4);
+    // dynray reads only float matrices, which have no padding.
+    if n * csize != size {
+        return Err(format!("accessor {}: padded matrix layouts are not read", acc.index()));
+    }
+    let normalized = acc.normalized();
+    let mut out = Vec::with_capacity(acc.count() * n);
+    for e in 0..acc.count() {
+        let start = acc.offset() + e * stride;
+        let elem = bytes
+            .get(start..start + size)
+            .ok_or_else(|| format!("accessor {} element {e} lies outside its buffer view", acc.index()))?;
+        for c in elem.chunks_exact(csize) {
+            out.push(component(acc.data_type(), c, normalized));
+        }
+    }
+    Ok(out)
+}
+
+/// One little-endian component as `f32` (normalised per glTF §3.11 when asked).
+fn component(t: DataType, b: &[u8], normalized: bool) -> f32 {
+    match t {
+        DataType::F32 => f32::from_le_bytes([b[0], b[1], b[2], b[3]]),
+        DataType::U32 => u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f32,
+        DataType::I8 => {
+            let v = b[0] as i8 as f32;
+            if normalized {
+                (v / 127.0).max(-1.0)
+            } else {
+                v
+            }
+        }
+        DataType::U8 => {
+            let v = b[0] as f32;
+            if normalized {
+                v / 255.0
+            } else {
+                v
+            }
+        }
+        DataType::I16 => {
+            let v = i16::from_le_bytes([b[0], b[1]]) as f32;
+            if normalized {
+                (v / 32767.0).max(-1.0)
+            } else {
+                v
+            }
+        }
+        DataType::U16 => {
+            let v = u16::from_le_bytes([b[0], b[1]]) as f32;
+            if normalized {
+                v / 65535.0
+            } else {
+                v
+            }
+        }
+    }
 }
 
 #[cfg(test)]
