@@ -158,7 +158,10 @@ fn animation_summary(scene: &Scene) -> String {
         parts.push(format!("{} nodes", thousands(a.rig.nodes.len())));
     }
     if !a.rig.skins.is_empty() {
-        parts.push(format!("{} skins", a.rig.skins.len()));
+        parts.push(match a.rig.skins.len() {
+            1 => "1 skin".to_string(),
+            n => format!("{n} skins"),
+        });
     }
     let dynamic = scene.actors.iter().filter(|x| x.motion == dynray_scene::Motion::Dynamic).count();
     parts.push(format!("{dynamic} of {} actors dynamic", scene.actors.len()));
