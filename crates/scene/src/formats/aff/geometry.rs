@@ -124,7 +124,7 @@ impl Groups {
             }
         }
         g.indices.extend(triangles.iter().map(|t| t.map(|i| i + base)));
-        g.materials.extend(std::iter::repeat(material).take(triangles.len()));
+        g.materials.extend(std::iter::repeat_n(material, triangles.len()));
     }
 
     /// Adds a `tpa` triangle: `keys[k]` holds key `k`'s time and three vertices.

@@ -38,7 +38,7 @@ mod parser;
 
 use crate::report::LoadReport;
 use crate::texture::untexture_where_no_uvs;
-use crate::{Camera, LoadError, Projection, Scene, Timeline, Transform};
+use crate::{Camera, LoadError, Projection, Timeline, Transform};
 use dynray_geom::{MeshError, Vec3};
 use geometry::Place;
 use glam::Mat4;
@@ -97,5 +97,5 @@ fn finish(path: &Path, loader: parser::Loader) -> Result<LoadReport, LoadError> 
     }
     scene.mark_moving_actors();
     untexture_where_no_uvs(&mut scene, path, &mut warnings);
-    Ok(LoadReport { scene: Scene { ..scene }, warnings })
+    Ok(LoadReport { scene, warnings })
 }

@@ -185,7 +185,9 @@ impl Loader {
                     }
                 }
                 // dynray's cameras have no near plane.
-                "hither" => _ = t.number(&what)?,
+                "hither" => {
+                    t.number(&what)?;
+                }
                 _ => {
                     let (wd, ht) = (t.count(&what)?, t.count(&what)?);
                     if wd == 0 || ht == 0 {
