@@ -15,10 +15,14 @@
 //! closer than 180° apart, as BART's are, give quaternions that never flip.
 //!
 //! Keys at the same time as the previous one (BART's files repeat the first and last
-//! keys) are dropped; a key before the previous one is an error. BART puts one key beyond
-//! each end of the `a` range, to shape the spline's end tangent; a track with more than
-//! one key before the start or after the end of the range has keys no frame can show,
-//! and is an error naming the key ("a key outside the animation range").
+//! keys, and the kitchen's wheels some inner ones) are dropped, and so are keys earlier
+//! than a key before them (one robot track runs 42…48 twice), each with one warning per
+//! track: BART's data has both, and the rest of such tracks is usable.
+//!
+//! Keys may lie beyond the `a` range (BART pads tracks by a key at each end to shape
+//! the spline's ends, and some robot tracks run past the end). A track of several keys
+//! lying wholly before the start or after the end is an error naming its nearest key
+//! ("a key outside the animation range"): no frame could show any of it.
 
 use super::lexer::Tokens;
 use crate::animation::{Channel, ChannelTarget, Clip, Node, NodePose, Rig, Track};
@@ -81,12 +85,6 @@ impl Keyframes {
     /// Reads a `k name { … }` block (after the `k`).
     pub fn read_k(&mut self, t: &mut Tokens<'_>) -> Result<(), LoadError> {
         let name = t.word("the name of the keyframes after `k`")?;
-        if let Some(b) = self.blocks.get(name.text) {
-            return Err(t.error(
-                name.line,
-                format!("keyframes `{}` defined twice (first at {}:{})", name.text, b.path.display(), b.line),
-            ));
-        }
         t.expect("{", &format!("after `k {}`", name.text))?;
         let mut block =
             KeyBlock { path: t.path.to_path_buf(), line: name.line, translation: None, rotation: None, scale: None };
@@ -121,6 +119,17 @@ impl Keyframes {
                 keys.push(RawKey { time, value, tcb, line });
             }
             *slot = Some(keys);
+        }
+        if let Some(b) = self.blocks.get(name.text) {
+            // A file included twice (BART's car includes each wheel file twice) defines
+            // its keyframes twice from the same place: the same block, kept once.
+            if b.path == block.path && b.line == block.line {
+                return Ok(());
+            }
+            return Err(t.error(
+                name.line,
+                format!("keyframes `{}` defined twice (first at {}:{})", name.text, b.path.display(), b.line),
+            ));
         }
         self.blocks.insert(name.text.to_string(), block);
         Ok(())
@@ -162,8 +171,7 @@ impl Keyframes {
             }
             None => None,
         };
-        let mut unused: Vec<(&String, &KeyBlock)> =
-            self.blocks.iter().filter(|(n, _)| !used.contains(n)).collect();
+        let mut unused: Vec<(&String, &KeyBlock)> = self.blocks.iter().filter(|(n, _)| !used.contains(n)).collect();
         unused.sort_by_key(|(_, b)| (b.path.clone(), b.line));
         for (name, b) in unused {
             warnings.push(Warning::new(
@@ -215,37 +223,56 @@ fn track(
         return Err(err(block.line, format!("`{what}` has no keys")));
     }
     let mut kept: Vec<RawKey> = Vec::with_capacity(keys.len());
+    let (mut repeated, mut backwards) = (None, None);
     for k in keys {
         if let Some(prev) = kept.last() {
             if k.time == prev.time {
                 if k.value != prev.value || k.tcb != prev.tcb {
-                    warnings.push(Warning::new(
-                        &block.path,
-                        Some(k.line),
-                        format!("`{what}` key at time {} repeats the previous key's time with other values; ignored", k.time),
-                    ));
+                    repeated = repeated.or(Some(k.line));
                 }
                 continue;
             }
             if k.time < prev.time {
-                return Err(err(
-                    k.line,
-                    format!("`{what}` key at time {} comes after a key at time {} (keys must be in time order)", k.time, prev.time),
-                ));
+                backwards = backwards.or(Some((k.line, k.time, prev.time)));
+                continue;
             }
         }
         kept.push(*k);
     }
+    if let Some(line) = repeated {
+        warnings.push(Warning::new(
+            &block.path,
+            Some(line),
+            format!("`{what}`: keys repeating the previous key's time with other values are ignored (the first here)"),
+        ));
+    }
+    if let Some((line, time, prev)) = backwards {
+        warnings.push(Warning::new(
+            &block.path,
+            Some(line),
+            format!("`{what}`: key at time {time} comes after a key at time {prev}; keys not after every earlier key are ignored"),
+        ));
+    }
     if let Some(r) = range {
-        let before = kept.iter().filter(|k| k.time < r.start).count();
-        let after = kept.iter().filter(|k| k.time > r.end).count();
-        let outside = if before > 1 { Some(kept[0]) } else if after > 1 { kept.last().copied() } else { None };
+        // Tracks may run past the range (BART pads them, and authors keys beyond the
+        // end); a track of several keys that the range never reaches only ever shows
+        // one held value, so its keys are a mistake.
+        let (first, last) = (kept[0], *kept.last().expect("a track has keys"));
+        let outside = if kept.len() < 2 {
+            None
+        } else if last.time < r.start {
+            Some(last)
+        } else if first.time > r.end {
+            Some(first)
+        } else {
+            None
+        };
         if let Some(k) = outside {
             return Err(err(
                 k.line,
                 format!(
-                    "`{what}` key at time {} is outside the animation range {}..{} (`a` at {}:{}): \
-                     only one key may lie beyond each end, to shape the spline's end",
+                    "`{what}` key at time {} is outside the animation range {}..{} (`a` at {}:{}), \
+                     and so are all the track's keys: no frame shows them",
                     k.time,
                     r.start,
                     r.end,

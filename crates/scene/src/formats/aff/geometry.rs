@@ -240,7 +240,12 @@ pub(super) fn read_textured_triangle(
 }
 
 /// `s x y z r`.
-pub(super) fn read_sphere(t: &mut Tokens<'_>, groups: &mut Groups, place: &Place, material: u32) -> Result<(), LoadError> {
+pub(super) fn read_sphere(
+    t: &mut Tokens<'_>,
+    groups: &mut Groups,
+    place: &Place,
+    material: u32,
+) -> Result<(), LoadError> {
     let line = t.line();
     let c = t.vec3("`s` centre")?;
     let r = t.number("`s` radius")?;
@@ -253,7 +258,12 @@ pub(super) fn read_sphere(t: &mut Tokens<'_>, groups: &mut Groups, place: &Place
 }
 
 /// `c bx by bz r0 ax ay az r1`.
-pub(super) fn read_cone(t: &mut Tokens<'_>, groups: &mut Groups, place: &Place, material: u32) -> Result<(), LoadError> {
+pub(super) fn read_cone(
+    t: &mut Tokens<'_>,
+    groups: &mut Groups,
+    place: &Place,
+    material: u32,
+) -> Result<(), LoadError> {
     let line = t.line();
     let base = Vec3::from_array(t.vec3("`c` base centre")?);
     let r0 = t.number("`c` base radius")?;
@@ -289,9 +299,8 @@ pub(super) fn read_cone(t: &mut Tokens<'_>, groups: &mut Groups, place: &Place, 
 
 fn add_mesh(groups: &mut Groups, place: &Place, m: &TriangleMesh, material: u32) {
     let normals = m.normals.as_deref();
-    let vs: Vec<Vertex> = (0..m.positions.len())
-        .map(|i| Vertex { p: m.positions[i], n: normals.map(|n| n[i]), uv: None })
-        .collect();
+    let vs: Vec<Vertex> =
+        (0..m.positions.len()).map(|i| Vertex { p: m.positions[i], n: normals.map(|n| n[i]), uv: None }).collect();
     groups.add(place, &vs, &m.indices, material);
 }
 

@@ -79,16 +79,6 @@ impl<'a> Tokens<'a> {
         }
     }
 
-    /// Takes the next word if it is `text`.
-    pub fn eat(&mut self, text: &str) -> bool {
-        if self.peek().is_some_and(|t| t.text == text) {
-            self.pos += 1;
-            true
-        } else {
-            false
-        }
-    }
-
     /// Takes the word `text` or fails naming `context`.
     pub fn expect(&mut self, text: &str, context: &str) -> Result<Token<'a>, LoadError> {
         let t = self.word(&format!("`{text}` {context}"))?;
@@ -117,9 +107,10 @@ impl<'a> Tokens<'a> {
     /// A non-negative integer (a count or an index).
     pub fn count(&mut self, what: &str) -> Result<usize, LoadError> {
         let t = self.word(&format!("a whole number ({what})"))?;
-        t.text.parse::<u32>().map(|n| n as usize).map_err(|_| {
-            self.error(t.line, format!("expected a whole number ({what}), found `{}`", t.text))
-        })
+        t.text
+            .parse::<u32>()
+            .map(|n| n as usize)
+            .map_err(|_| self.error(t.line, format!("expected a whole number ({what}), found `{}`", t.text)))
     }
 }
 
@@ -140,7 +131,19 @@ mod tests {
         let words: Vec<(&str, usize)> = t.tokens.iter().map(|t| (t.text, t.line)).collect();
         assert_eq!(
             words,
-            [("xs", 1), ("1", 1), ("2", 1), ("{", 1), ("p", 4), ("3", 4), ("}", 5), ("x", 5), ("{", 5), ("y", 5), ("}", 5)]
+            [
+                ("xs", 1),
+                ("1", 1),
+                ("2", 1),
+                ("{", 1),
+                ("p", 4),
+                ("3", 4),
+                ("}", 5),
+                ("x", 5),
+                ("{", 5),
+                ("y", 5),
+                ("}", 5)
+            ]
         );
     }
 

@@ -112,20 +112,21 @@ impl Materials {
     ) -> u32 {
         let material = self.current(scene);
         let path = self.find(file, name);
-        let texture = *self.loaded.entry(path.clone()).or_insert_with(|| match Texture::load(&path, ColorSpace::Srgb) {
-            Ok(tex) => {
-                scene.textures.push(Arc::new(tex));
-                Some(scene.textures.len() as u32 - 1)
-            }
-            Err(e) => {
-                warnings.push(Warning::new(
-                    file,
-                    Some(line),
-                    format!("texture `{name}`: {e}; rendered untextured"),
-                ));
-                None
-            }
-        });
+        let texture =
+            *self.loaded.entry(path.clone()).or_insert_with(|| match Texture::load(&path, ColorSpace::Srgb) {
+                Ok(tex) => {
+                    scene.textures.push(Arc::new(tex));
+                    Some(scene.textures.len() as u32 - 1)
+                }
+                Err(e) => {
+                    warnings.push(Warning::new(
+                        file,
+                        Some(line),
+                        format!("texture `{name}`: {e}; rendered untextured"),
+                    ));
+                    None
+                }
+            });
         let Some(texture) = texture else { return material };
         *self.textured.entry((material, texture)).or_insert_with(|| {
             let base = &scene.materials[material as usize];

@@ -91,7 +91,8 @@ impl Loader {
                 }
                 "m" => {
                     let m = self.materials.current(&mut self.scene);
-                    let (mats, scene, warnings, path) = (&mut self.materials, &mut self.scene, &mut self.warnings, t.path);
+                    let (mats, scene, warnings, path) =
+                        (&mut self.materials, &mut self.scene, &mut self.warnings, t.path);
                     let texture = |line: usize, name: &str| mats.textured(scene, warnings, path, line, name);
                     geometry::read_mesh(t, &mut self.groups, &place, m, texture)?;
                 }
@@ -121,18 +122,18 @@ impl Loader {
                 "k" => self.keys.read_k(t)?,
                 "a" => self.read_range(t, w.line)?,
                 "i" => self.include(t, &place, w.line)?,
-                other => {
-                    return Err(t.error(
-                        w.line,
-                        format!(
-                            "unknown command `{other}` (AFF/NFF commands: v b am l f fm p pp s c tt ttp tpa m x xs k a i)"
-                        ),
-                    ))
-                }
+                other => return Err(t.error(
+                    w.line,
+                    format!(
+                        "unknown command `{other}` (AFF/NFF commands: v b am l f fm p pp s c tt ttp tpa m x xs k a i)"
+                    ),
+                )),
             }
         }
         match open {
-            Some(line) => Err(t.error(t.line(), format!("end of file inside the block opened at line {line} (missing `}}`)"))),
+            Some(line) => {
+                Err(t.error(t.line(), format!("end of file inside the block opened at line {line} (missing `}}`)")))
+            }
             None => Ok(()),
         }
     }
@@ -181,7 +182,9 @@ impl Loader {
                 "angle" => {
                     view.angle = t.number(&what)?;
                     if !(view.angle > 0.0 && view.angle < 180.0) {
-                        return Err(t.error(w.line, format!("`v` angle must be in (0, 180) degrees, found {}", view.angle)));
+                        return Err(
+                            t.error(w.line, format!("`v` angle must be in (0, 180) degrees, found {}", view.angle))
+                        );
                     }
                 }
                 // dynray's cameras have no near plane.
@@ -241,9 +244,8 @@ impl Loader {
         let name = t.word("the file name after `i`")?;
         let dir = t.path.parent().unwrap_or(Path::new(""));
         let file = dir.join(name.text);
-        let canonical = std::fs::canonicalize(&file).map_err(|e| {
-            t.error(line, format!("include `{}`: cannot read {}: {e}", name.text, file.display()))
-        })?;
+        let canonical = std::fs::canonicalize(&file)
+            .map_err(|e| t.error(line, format!("include `{}`: cannot read {}: {e}", name.text, file.display())))?;
         if let Some(at) = self.includes.iter().position(|p| *p == canonical) {
             let chain: Vec<String> = self.includes[at..]
                 .iter()
