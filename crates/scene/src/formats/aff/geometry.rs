@@ -349,7 +349,8 @@ pub(super) fn read_mesh(
     for i in 0..nv {
         positions.push(t.vec3(&format!("mesh vertex {} of {nv} (block at line {})", i + 1, header.line))?);
     }
-    let (mut normals, mut uvs): (Option<Vec<[f32; 3]>>, Option<Vec<[f32; 2]>>) = (None, None);
+    let mut normals: Option<Vec<[f32; 3]>> = None;
+    let mut uvs: Option<Vec<[f32; 2]>> = None;
     loop {
         let w = t.word("`normals`, `texturecoords` or `triangles` in the `m` block")?;
         match w.text {

@@ -122,12 +122,10 @@ impl Loader {
                 "k" => self.keys.read_k(t)?,
                 "a" => self.read_range(t, w.line)?,
                 "i" => self.include(t, &place, w.line)?,
-                other => return Err(t.error(
-                    w.line,
-                    format!(
-                        "unknown command `{other}` (AFF/NFF commands: v b am l f fm p pp s c tt ttp tpa m x xs k a i)"
-                    ),
-                )),
+                other => {
+                    const KNOWN: &str = "v b am l f fm p pp s c tt ttp tpa m x xs k a i";
+                    return Err(t.error(w.line, format!("unknown command `{other}` (AFF/NFF commands: {KNOWN})")));
+                }
             }
         }
         match open {
@@ -227,7 +225,7 @@ impl Loader {
         let start = t.number("`a` start time")?;
         let end = t.number("`a` end time")?;
         let frames = t.count("`a` frame count")?;
-        if !(end > start) || frames == 0 {
+        if end <= start || frames == 0 {
             return Err(t.error(line, format!("`a {start} {end} {frames}`: needs start < end and at least one frame")));
         }
         if let Some(r) = &self.range {
