@@ -3,7 +3,8 @@
 //!
 //! Formats, chosen by extension (case-insensitive): `.npz` numpy arrays
 //! ([`crate::formats::npz`]), `.ply` and `.ply.gz` ([`crate::formats::ply`]), `.obj` with its `.mtl` ([`crate::formats::obj`]), `.gltf` and
-//! `.glb` ([`crate::formats::gltf`]), and scene files in seed 003's language, `.scn`
+//! `.glb` ([`crate::formats::gltf`]), BART's animated scenes and NFF, `.aff` and `.nff`
+//! ([`crate::formats::aff`]), and scene files in seed 003's language, `.scn`
 //! ([`crate::scn`]).
 //!
 //! What every loaded file becomes: its meshes as actors (each in its own space with the
@@ -45,6 +46,8 @@ pub enum FileFormat {
     Npz,
     /// A scene in seed 003's scene language.
     Scn,
+    /// BART's AFF (NFF with animation), `.aff`, or plain NFF, `.nff`.
+    Aff,
 }
 
 impl FileFormat {
@@ -62,6 +65,8 @@ impl FileFormat {
             Some(FileFormat::Npz)
         } else if ends(".scn") {
             Some(FileFormat::Scn)
+        } else if ends(".aff") || ends(".nff") {
+            Some(FileFormat::Aff)
         } else {
             None
         }
@@ -139,6 +144,7 @@ pub(crate) fn load_own(path: &Path) -> Result<LoadReport, LoadError> {
         FileFormat::Obj => crate::formats::obj::load(path),
         FileFormat::Gltf => crate::formats::gltf::load(path),
         FileFormat::Scn => crate::scn::load_scn_unshaded(path),
+        FileFormat::Aff => crate::formats::aff::load(path),
     }
 }
 
@@ -157,6 +163,8 @@ mod tests {
         assert_eq!(FileFormat::of(Path::new(".obj")), None);
         assert_eq!(FileFormat::of(Path::new("whitted.SCN")), Some(FileFormat::Scn));
         assert_eq!(FileFormat::of(Path::new("scene.txt")), None);
+        assert_eq!(FileFormat::of(Path::new("kitchen.aff")), Some(FileFormat::Aff));
+        assert_eq!(FileFormat::of(Path::new("balls.NFF")), Some(FileFormat::Aff));
         assert_eq!(FileFormat::of(Path::new("")), None);
     }
 }

@@ -8,6 +8,7 @@
 //! arm in `load.rs` ([`crate::FileFormat`] and [`crate::load_file_report`]); scene files can
 //! then reference it through `mesh { file "…" }` without further work.
 
+pub mod aff;
 pub mod gltf;
 pub(crate) mod mtl;
 pub mod npz;
