@@ -142,7 +142,8 @@ fn animation_summary(scene: &Scene) -> String {
     let mut parts = vec![format!(
         "{} frames at {} fps from {} s to {} s",
         thousands(t.frames as usize),
-        t.frame_rate,
+        // Three decimals at most: BART's rates are (N - 1) / duration.
+        format!("{:.3}", t.frame_rate).trim_end_matches('0').trim_end_matches('.'),
         t.time_of(0),
         t.time_of(t.frames - 1)
     )];

@@ -71,3 +71,24 @@ fn policies_parse_and_print() {
     assert!("auto:0.5".parse::<UpdatePolicy>().unwrap_err().contains("above 1"));
     assert!("sometimes".parse::<UpdatePolicy>().unwrap_err().contains("unknown update policy"));
 }
+
+#[test]
+fn every_structure_follows_a_skinned_animation_exactly() {
+    // CesiumMan's walk (glTF skin): frames posed by the scene crate, the structure
+    // updated by `auto`, every answer brute force's on that frame.
+    let path = scenes_dir().join("CesiumMan/glTF-Binary/CesiumMan.glb");
+    let scene = dynray_scene::load_file(&path).expect("CesiumMan loads");
+    assert!(scene.is_animated());
+    let tl = scene.animation.timeline;
+    let first = scene.frame(tl.time_of(0));
+    for &kind in AccelKind::ALL {
+        let eye = Some(first.camera.position);
+        let (mut live, _) = LiveAccel::build(&AccelSpec::new(kind), UpdatePolicy::default(), &first.mesh, eye).unwrap();
+        for k in [6, 19, 33, 48] {
+            let frame = scene.frame(tl.time_of(k));
+            live.update(&frame.mesh, Some(frame.camera.position)).unwrap();
+            let rays = random_rays(&frame.mesh, 800, k as u64);
+            assert_matches_oracle(live.accel(), &frame.mesh, &rays, &format!("{kind:?} CesiumMan frame {k}"));
+        }
+    }
+}
