@@ -202,9 +202,7 @@ fn a_defined_animated_object_moves_wherever_it_is_placed() {
 #[test]
 fn channels_use_only_the_keys_that_set_them() {
     // Translation keyed at 0 and 1, rotation only at 0.5 (held throughout).
-    let s = parse(&animated(
-        "  key 0 { translate <0,0,0> }\n  key 0.5 { rotate_z 90 }\n  key 1 { translate <2,0,0> }",
-    ));
+    let s = parse(&animated("  key 0 { translate <0,0,0> }\n  key 0.5 { rotate_z 90 }\n  key 1 { translate <2,0,0> }"));
     assert_eq!(s.animation.rig.clips[0].channels.len(), 2);
     // At 0.5: translated by 1, vertex 1 turned to +y.
     assert!(close(vertex(&s, 0.5, 1), Vec3::new(1.0, 1.0, 0.0)), "{}", vertex(&s, 0.5, 1));
@@ -279,8 +277,9 @@ fn motion_is_dynamic_exactly_when_animated_unless_written() {
 
 #[test]
 fn motion_static_on_an_animated_object_is_an_error() {
-    let (line, col, msg, rendered) = fail(&animated("  key 0 { translate <0,0,0> }\n} motion static"));
-    assert_eq!((line, col), (5, 10), "{rendered}");
+    let (line, col, msg, rendered) =
+        fail(&format!("{SETTINGS}\n{TRI}\nanimate {{ key 0 {{ translate <0,0,0> }} }}\nmotion static }}"));
+    assert_eq!((line, col), (4, 8), "{rendered}");
     assert!(msg.contains("`motion static` on an animated object"), "{msg}");
     assert!(rendered.contains("animated here"), "{rendered}");
     let (line, col, msg, rendered) = fail(&format!("{TRI} motion fast }}"));
@@ -299,7 +298,10 @@ fn a_scene_without_animation_is_the_same_at_every_time() {
     );
     assert_eq!(s.animation.rig, Default::default());
     assert!(s.animation.light_nodes.is_empty() && s.animation.camera_node.is_none());
-    assert_eq!(s.animation, Animation { timeline: Timeline { frames: 10, ..Timeline::default() }, ..Default::default() });
+    assert_eq!(
+        s.animation,
+        Animation { timeline: Timeline { frames: 10, ..Timeline::default() }, ..Default::default() }
+    );
     assert!(!s.is_animated());
     assert!(s.actors.iter().all(|a| a.motion == Motion::Static && a.node.is_none()));
     assert_eq!(s.actors[1].transform, Transform::IDENTITY);
@@ -316,7 +318,12 @@ fn a_scene_without_animation_is_the_same_at_every_time() {
 
 /// `(body, line, column, message part)` of each bad `animate` body.
 const BAD_KEYS: &[(&str, usize, usize, &str)] = &[
-    ("  key 0.5 { translate <1,0,0> }\n  key 0.25 { translate <0,0,0> }", 5, 3, "key at 0.25 s comes after a key at 0.5 s"),
+    (
+        "  key 0.5 { translate <1,0,0> }\n  key 0.25 { translate <0,0,0> }",
+        5,
+        3,
+        "key at 0.25 s comes after a key at 0.5 s",
+    ),
     ("  key 0.5 { translate <1,0,0> }\n  frame 12 { translate <0,0,0> }", 5, 3, "duplicate key at 0.5 s"),
     ("  key 0 { translate <1,0,0> }\n  key 0 { translate <0,0,0> }", 5, 3, "duplicate key at 0 s"),
     ("  key 0 { translate <1,0,0> }\n  key 2 { translate <0,0,0> }", 5, 3, "key at 2 s is outside the animation"),
@@ -326,7 +333,7 @@ const BAD_KEYS: &[(&str, usize, usize, &str)] = &[
     ("  key 0 { rotate <0,0,0> 90 }", 4, 18, "rotation axis is the zero vector"),
     ("  key 0 { rotate <1,0,0> <0,1,0> 90 }", 4, 18, "a key's `rotate` takes an axis and an angle, not a base point"),
     ("  key 0 { rotate <0,1,0> <1,1,1> }", 4, 18, "not a base point"),
-    ("  key 0 { rotate <0,1,0> rgb(1,0,0) }", 4, 27, "rotation angle (degrees) must be a finite real, found a colour"),
+    ("  key 0 { rotate <0,1,0> rgb(1,0,0) }", 4, 26, "rotation angle (degrees) must be a finite real, found a colour"),
     ("  key 0 { rotate_y <0,1,0> }", 4, 20, "type mismatch: rotate_y angle (degrees) must be a real"),
     ("  key 0 { scale <1,0,1> }", 4, 17, "scale factors"),
     ("  key 0 { translate 3 }", 4, 21, "key translation must be a vector"),
@@ -334,7 +341,12 @@ const BAD_KEYS: &[(&str, usize, usize, &str)] = &[
     ("  key 0 { }", 4, 9, "this key sets nothing"),
     ("  key 0 { translate <0,0,0> translate <1,0,0> }", 4, 29, "duplicated parameter `translate` in `key`"),
     ("  key 0 { translate <0,0,0> tension 0.5 }", 4, 29, "`tension` applies only to `interpolation smooth`"),
-    ("  interpolation smooth\n  key 0 { translate <0,0,0> bias 2 }", 5, 34, "key bias is 2, but it must lie in [-1, 1]"),
+    (
+        "  interpolation smooth\n  key 0 { translate <0,0,0> bias 2 }",
+        5,
+        34,
+        "key bias is 2, but it must lie in [-1, 1]",
+    ),
     ("  interpolation smooth\n  interpolation step", 5, 3, "duplicated parameter `interpolation` in `animate`"),
 ];
 
@@ -350,10 +362,14 @@ fn each_bad_key_is_reported_at_its_place() {
 
 #[test]
 fn a_key_past_the_default_single_frame_says_how_to_lengthen_the_animation() {
-    let (line, col, msg, rendered) = fail(&format!("{TRI}\n  animate {{ key 0 {{ translate <0,0,0> }} key 1 {{ scale 2 }} }} }}"));
+    let (line, col, msg, rendered) =
+        fail(&format!("{TRI}\n  animate {{ key 0 {{ translate <0,0,0> }} key 1 {{ scale 2 }} }} }}"));
     assert_eq!((line, col), (2, 41), "{rendered}");
     assert!(msg.contains("key at 1 s is outside the animation"), "{msg}");
-    assert!(rendered.contains("1 frame(s) at 24 frames a second") && rendered.contains("settings { frames N"), "{rendered}");
+    assert!(
+        rendered.contains("1 frame(s) at 24 frames a second") && rendered.contains("settings { frames N"),
+        "{rendered}"
+    );
 }
 
 #[test]
@@ -366,7 +382,8 @@ fn an_animate_without_keys_is_an_error() {
 #[test]
 fn a_second_animate_is_an_error() {
     // In one block …
-    let (line, col, msg, _) = fail(&format!("{TRI} animate {{ key 0 {{ scale 1 }} }} animate {{ key 0 {{ scale 2 }} }} }}"));
+    let (line, col, msg, _) =
+        fail(&format!("{TRI} animate {{ key 0 {{ scale 1 }} }} animate {{ key 0 {{ scale 2 }} }} }}"));
     assert_eq!((line, col), (1, 101));
     assert!(msg.contains("duplicated parameter `animate`"), "{msg}");
     // … and over a definition and its use.
@@ -396,7 +413,7 @@ fn light_and_camera_keys_are_checked_too() {
     let (line, col, msg, _) = fail(&format!(
         "{SETTINGS}\nlight {{ position <0,1,0>\n  animate {{ key 0 {{ translate <0,0,0> }} key 3 {{ translate <1,0,0> }} }} }}"
     ));
-    assert_eq!((line, col), (3, 44));
+    assert_eq!((line, col), (3, 41));
     assert!(msg.contains("key at 3 s is outside"), "{msg}");
     let (line, col, msg, _) = fail(&format!(
         "{SETTINGS}\ncamera {{ perspective position <0,0,5> to <0,0,0> up <0,1,0>\n  animate {{ interpolation smoth key 0 {{ rotate_y 3 }} }} }}"

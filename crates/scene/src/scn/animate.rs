@@ -156,7 +156,8 @@ impl Parser<'_> {
                     return Ok(());
                 }
                 "tension" | "continuity" | "bias" => {
-                    let x = p.real_f32(&format!("key {op}"), "it must lie in [-1, 1]", |x| (-1.0..=1.0).contains(&x))?;
+                    let x =
+                        p.real_f32(&format!("key {op}"), "it must lie in [-1, 1]", |x| (-1.0..=1.0).contains(&x))?;
                     let i = ["tension", "continuity", "bias"].iter().position(|w| *w == op).unwrap_or(0);
                     key.tcb[i] = x as f64;
                     key.tcb_span.get_or_insert((op.to_string(), ospan));
@@ -216,7 +217,9 @@ impl Parser<'_> {
             }
         };
         if !f.is_finite() || f.abs().max_element() > f32::MAX as f64 {
-            return Err(self.err(span, format!("key scale {f} is too large for single precision")).label("out of range"));
+            return Err(self
+                .err(span, format!("key scale {f} is too large for single precision"))
+                .label("out of range"));
         }
         if f.x == 0.0 || f.y == 0.0 || f.z == 0.0 {
             return Err(self
@@ -265,9 +268,13 @@ impl AnimSpec {
                         .also(self.file, first.clone(), "the first key at this time"));
                 }
                 if t32 < prev {
-                    return Err(Diag::new(self.file, k.span.clone(), format!("key at {t} s comes after a key at {prev} s"))
-                        .label("keys must be in increasing time order")
-                        .also(self.file, first.clone(), "the previous key"));
+                    return Err(Diag::new(
+                        self.file,
+                        k.span.clone(),
+                        format!("key at {t} s comes after a key at {prev} s"),
+                    )
+                    .label("keys must be in increasing time order")
+                    .also(self.file, first.clone(), "the previous key"));
                 }
             }
             out.push(t32);
@@ -328,7 +335,7 @@ impl AnimSpec {
         after: DMat4,
         axis: Axis,
     ) -> Result<(u32, u32), Diag> {
-        let mut push = |rig: &mut Rig, parent: Option<u32>, rest: NodePose| {
+        let push = |rig: &mut Rig, parent: Option<u32>, rest: NodePose| {
             rig.nodes.push(Node { name: name.map(str::to_string), parent, rest, rest_weights: Vec::new() });
             rig.nodes.len() as u32 - 1
         };

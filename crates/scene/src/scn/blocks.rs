@@ -182,7 +182,15 @@ impl Parser<'_> {
         let (mut frames, mut frame_rate) = (None, None);
         self.block(
             "settings",
-            &["image_width", "image_height", "min_weight", "max_recursion_level", "sphere_detail", "frames", "frame_rate"],
+            &[
+                "image_width",
+                "image_height",
+                "min_weight",
+                "max_recursion_level",
+                "sphere_detail",
+                "frames",
+                "frame_rate",
+            ],
             &[],
             |p, key, span| {
                 match key {

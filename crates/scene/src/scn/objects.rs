@@ -6,11 +6,11 @@
 //! (centre, radius) until the whole file is read, so that `settings { sphere_detail }`
 //! applies to every sphere wherever it is written; see `build.rs`.
 
+use super::animate::AnimSpec;
 use super::diag::did_you_mean;
+use super::diag::FileId;
 use super::lexer::Tok;
 use super::mesh_file::{load_mesh_file, MeshFile, Parts};
-use super::animate::AnimSpec;
-use super::diag::FileId;
 use super::parser::{Def, Parser, Span, R};
 use super::textures::shifted;
 use crate::shapes::cuboid;
@@ -115,10 +115,11 @@ impl Object {
     /// Sets `motion`; given twice (in a definition and where it is used, say) is an error.
     fn set_motion(&mut self, m: (Motion, Span), p: &Parser) -> R<()> {
         if let Some((_, f, s)) = &self.motion {
-            return Err(p
-                .err(m.1, "duplicated parameter `motion`")
-                .label("given again here")
-                .also(*f, s.clone(), "first given here"));
+            return Err(p.err(m.1, "duplicated parameter `motion`").label("given again here").also(
+                *f,
+                s.clone(),
+                "first given here",
+            ));
         }
         self.motion = Some((m.0, p.file, m.1));
         Ok(())
@@ -206,9 +207,9 @@ impl Parser<'_> {
             if MODIFIERS.iter().any(|m| self.at_word(m)) {
                 self.modifier(obj, what, &mut material_at)?;
             } else {
-                return Err(
-                    self.expected(&format!("`material`, `transform`, `animate`, `motion` or `}}` to close `{what}`"))
-                );
+                return Err(self.expected(&format!("`material`, `transform` or `}}` to close `{what}`")).note(
+                    "an object's block also takes `animate { … }` and `motion static|dynamic` (docs §5.3, §5.4)",
+                ));
             }
         }
     }
@@ -334,9 +335,7 @@ impl Parser<'_> {
             "smooth" => {
                 let crease_given = match self.peek() {
                     Tok::Punct('}') | Tok::Eof => false,
-                    Tok::Name(n) => {
-                        !MESH_KEYS.contains(&n.as_str()) && !MODIFIERS.contains(&n.as_str())
-                    }
+                    Tok::Name(n) => !MESH_KEYS.contains(&n.as_str()) && !MODIFIERS.contains(&n.as_str()),
                     _ => true,
                 };
                 let crease_deg = if crease_given {
@@ -365,9 +364,7 @@ impl Parser<'_> {
             "static" => Ok((Motion::Static, span)),
             "dynamic" => Ok((Motion::Dynamic, span)),
             other => {
-                let mut d = self
-                    .err(span, format!("unknown motion `{other}`"))
-                    .label("expected `static` or `dynamic`");
+                let mut d = self.err(span, format!("unknown motion `{other}`")).label("expected `static` or `dynamic`");
                 if let Some(s) = did_you_mean(other, ["static", "dynamic"]) {
                     d = d.note(format!("did you mean `{s}`?"));
                 }
