@@ -421,3 +421,26 @@ fn light_and_camera_keys_are_checked_too() {
     assert_eq!((line, col), (3, 27));
     assert!(msg.contains("unknown interpolation `smoth`"), "{msg}");
 }
+
+// ---- the example ------------------------------------------------------------------------
+
+#[test]
+fn the_animated_example_loads_and_moves() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/animated.scn");
+    let s = dynray_scene::load_scn(&path).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(s.animation.timeline, Timeline { start: 0.0, frames: 48, frame_rate: 24.0 });
+    let motion: Vec<Motion> = s.actors.iter().map(|a| a.motion).collect();
+    assert_eq!(motion, [Motion::Static, Motion::Dynamic, Motion::Dynamic, Motion::Dynamic]);
+    assert_eq!(s.animation.light_nodes.len(), 1);
+    assert!(s.animation.camera_node.is_some() && s.is_animated());
+    let first = s.frame(0.0);
+    let mid = s.frame(s.animation.timeline.time_of(12));
+    assert_ne!(first.camera, mid.camera);
+    assert_ne!(first.lights, mid.lights);
+    // The floor's triangles stay put; the rest move.
+    let floor = first.actor_ranges[0].clone();
+    let floor_vertices = s.actors[0].mesh.vertex_count();
+    assert_eq!(first.mesh.positions[..floor_vertices], mid.mesh.positions[..floor_vertices]);
+    assert_ne!(first.mesh.positions[floor_vertices..], mid.mesh.positions[floor_vertices..]);
+    assert_eq!(floor, mid.actor_ranges[0]);
+}
