@@ -106,7 +106,9 @@ impl Deformation {
             if k.times.is_empty() || k.times.len() != k.positions.len() {
                 return Err(format!("{} key times for {} keyed meshes", k.times.len(), k.positions.len()));
             }
-            if k.times.windows(2).any(|w| !(w[0] < w[1])) || k.times.iter().any(|t| !t.is_finite()) {
+            if k.times.windows(2).any(|w| w[0].partial_cmp(&w[1]) != Some(std::cmp::Ordering::Less))
+                || k.times.iter().any(|t| !t.is_finite())
+            {
                 return Err("vertex key times must be finite and increasing".into());
             }
             for (i, p) in k.positions.iter().enumerate() {

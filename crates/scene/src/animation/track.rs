@@ -312,9 +312,9 @@ impl Track {
                 }
             }
             Interpolation::Tcb => {
-                for i in 0..w {
+                for (i, o) in out.iter_mut().enumerate() {
                     let (m0, m1) = self.tcb_tangents(k0, i);
-                    out[i] = hermite(self.value(k0)[i], m0, self.value(k1)[i], m1, s);
+                    *o = hermite(self.value(k0)[i], m0, self.value(k1)[i], m1, s);
                 }
             }
         }
