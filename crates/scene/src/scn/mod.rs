@@ -4,8 +4,8 @@
 //! A file is read in one pass, as the seed's `SceneReader` did: `lexer.rs` makes tokens
 //! with byte spans, `parser.rs` reads statements through a generic block reader (unknown
 //! and duplicated parameters are errors), `expr.rs` evaluates typed expressions in place,
-//! `objects.rs`, `blocks.rs` and `transform.rs` read the productions, and `build.rs`
-//! turns the result into a [`Scene`]. Every error is rendered by `codespan-reporting`
+//! `objects.rs`, `blocks.rs`, `transform.rs` and `animate.rs` (keyframes) read the
+//! productions, and `build.rs` turns the result into a [`Scene`] (with its rig and timeline). Every error is rendered by `codespan-reporting`
 //! into [`LoadError::Scene`] (file:line:col, source line, caret, what was expected).
 
 mod animate;
