@@ -29,8 +29,14 @@ const HEIGHT: u32 = 120;
 
 /// Examples that must exist (so the loop below cannot pass by finding nothing), with
 /// whether each is a full scene (rendered) or an include-only file.
-const KNOWN: &[(&str, bool)] =
-    &[("whitted", true), ("seed_examples", true), ("bunny", true), ("materials", false), ("textured", true)];
+const KNOWN: &[(&str, bool)] = &[
+    ("whitted", true),
+    ("seed_examples", true),
+    ("bunny", true),
+    ("materials", false),
+    ("textured", true),
+    ("animated", true),
+];
 
 /// Every `examples/*.scn`, sorted by name.
 fn example_files() -> Vec<PathBuf> {

@@ -2,6 +2,7 @@
 //! `settings`, `material` with its `finish`. Each reads its parameters through
 //! `Parser::block`, so unknown and duplicated parameters are errors everywhere.
 
+use super::animate::{AnimSpec, MAX_FRAMES};
 use super::parser::{Def, Parser, R};
 use crate::{Camera, Color, Environment, Finish, Light, LightKind, Material, Projection, Settings, TextureRef};
 use glam::Vec3;
@@ -20,20 +21,24 @@ pub const MAX_RECURSION: i64 = 64;
 pub const MAX_FALLOFF: i64 = 8;
 
 impl Parser<'_> {
-    /// `light { position V [color C] [falloff I] }`, `light { direction V [color C] }`
-    /// or `light name`. The keyword `light` is the current token.
-    pub(crate) fn light(&mut self) -> R<Light> {
+    /// `light { position V [color C] [falloff I] [animate { … }] }`,
+    /// `light { direction V [color C] [animate { … }] }` or `light name`. The keyword
+    /// `light` is the current token. An animated light is given in its animation's space.
+    pub(crate) fn light(&mut self) -> R<(Light, Option<Rc<AnimSpec>>)> {
         self.bump();
         if let Some(named) = self.named("a light", |d| match d {
-            Def::Light(l) => Some(*l),
+            Def::Light(l, a) => Some((*l, a.clone())),
             _ => None,
         })? {
             return Ok(named);
         }
         let (mut pos, mut dir, mut color, mut falloff) = (None, None, None, None);
         let mut falloff_span = None;
-        let block = self.block("light", &["position", "direction", "color", "falloff"], &[], |p, key, span| {
+        let mut anim = None;
+        let keys = ["position", "direction", "color", "falloff", "animate"];
+        let block = self.block("light", &keys, &[], |p, key, span| {
             match key {
+                "animate" => anim = Some(Rc::new(p.animate(span)?)),
                 "position" => pos = Some((p.vector("light position")?, span)),
                 "direction" => {
                     let start = p.span().start;
@@ -76,26 +81,29 @@ impl Parser<'_> {
                     .label("expected `position` for a point light or `direction` for a directional one"))
             }
         };
-        Ok(Light { kind, color })
+        Ok((Light { kind, color }, anim))
     }
 
-    /// `camera { parallel|perspective position V to V up V [angle R] }` or `camera name`.
-    pub(crate) fn camera(&mut self) -> R<Camera> {
+    /// `camera { parallel|perspective position V to V up V [angle R] [animate { … }] }` or
+    /// `camera name`. An animated camera is given in its animation's space.
+    pub(crate) fn camera(&mut self) -> R<(Camera, Option<Rc<AnimSpec>>)> {
         self.bump();
         if let Some(named) = self.named("a camera", |d| match d {
-            Def::Camera(c) => Some(*c),
+            Def::Camera(c, a) => Some((*c, a.clone())),
             _ => None,
         })? {
             return Ok(named);
         }
         let (mut proj, mut pos, mut to, mut up, mut angle) = (None, None, None, None, None);
         let mut proj_span = None;
+        let mut anim = None;
         let block = self.block(
             "camera",
-            &["parallel", "perspective", "position", "to", "up", "angle"],
+            &["parallel", "perspective", "position", "to", "up", "angle", "animate"],
             &[],
             |p, key, span| {
                 match key {
+                    "animate" => anim = Some(Rc::new(p.animate(span)?)),
                     "parallel" | "perspective" => {
                         if let Some(first) = proj_span.clone() {
                             return Err(p
@@ -144,7 +152,7 @@ impl Parser<'_> {
             }
             Projection::Perspective { fov_y_deg }
         };
-        Ok(Camera { position, look_at, up, projection })
+        Ok((Camera { position, look_at, up, projection }, anim))
     }
 
     /// `environment { [background C] [ambient C] [ior R] }`; the keyword is consumed.
@@ -165,14 +173,24 @@ impl Parser<'_> {
     }
 
     /// `settings { [image_width I] [image_height I] [min_weight R]
-    /// [max_recursion_level I] [sphere_detail I] }`; the keyword is consumed.
+    /// [max_recursion_level I] [sphere_detail I] [frames I] [frame_rate R] }`; the keyword
+    /// is consumed.
     /// `min_weight` is a real (the seed's grammar says integer, its class says real).
     pub(crate) fn settings(&mut self) -> R<Settings> {
         let mut s = Settings::default();
         let mut detail = None;
+        let (mut frames, mut frame_rate) = (None, None);
         self.block(
             "settings",
-            &["image_width", "image_height", "min_weight", "max_recursion_level", "sphere_detail"],
+            &[
+                "image_width",
+                "image_height",
+                "min_weight",
+                "max_recursion_level",
+                "sphere_detail",
+                "frames",
+                "frame_rate",
+            ],
             &[],
             |p, key, span| {
                 match key {
@@ -192,6 +210,10 @@ impl Parser<'_> {
                             super::build::MAX_SPHERE_DETAIL as i64,
                         )? as u32)
                     }
+                    "frames" => frames = Some(p.int("frames", 1, MAX_FRAMES)? as u32),
+                    "frame_rate" => {
+                        frame_rate = Some(p.real_f32("frame_rate", "a frame rate must be positive", |x| x > 0.0)?)
+                    }
                     other => return Err(p.unhandled(span, other, "settings")),
                 }
                 Ok(())
@@ -200,6 +222,8 @@ impl Parser<'_> {
         if detail.is_some() {
             self.st.sphere_detail = detail;
         }
+        self.st.frames = frames;
+        self.st.frame_rate = frame_rate;
         Ok(s)
     }
 

@@ -3,11 +3,13 @@
 //! each actor keeps its object-space mesh and its transform (the frame applies it);
 //! materials are shared between actors that use the same one.
 
+use super::animate::Axis;
 use super::diag::Diag;
 use super::objects::Shape;
 use super::parser::State;
+use crate::animation::Clip;
 use crate::shapes::uv_sphere;
-use crate::{Actor, Material, Motion, Scene, Settings, Transform, Warning};
+use crate::{Actor, Material, Motion, Scene, Settings, Timeline, Transform, Warning};
 use dynray_geom::TriangleMesh;
 use glam::DMat4;
 use std::collections::HashMap;
@@ -47,9 +49,17 @@ pub(crate) fn build(mut st: State, warnings: &mut Vec<Warning>) -> Result<Scene,
         lights: st.lights.clone(),
         ..Default::default()
     };
+    let axis = Axis { frames: st.frames.unwrap_or(1), frame_rate: st.frame_rate.unwrap_or(24.0) as f64 };
+    scene.animation.timeline = Timeline { start: 0.0, frames: axis.frames, frame_rate: axis.frame_rate as f32 };
+    let mut channels = Vec::new();
+    // Animated actors: (actor, innermost node, statement), placed and checked once the
+    // rig is complete.
+    let mut animated = Vec::new();
+    let mut explicit = Vec::new();
     let mut index_of: HashMap<*const Material, u32> = HashMap::new();
     let mut default_index = None;
-    for entry in st.actors {
+    for entry in std::mem::take(&mut st.actors) {
+        let first_light = scene.lights.len();
         scene.lights.extend_from_slice(&entry.object.lights);
         // Parts of one object share one transform (modifiers apply to the whole object),
         // so the actor keeps its parts in object space and the transform beside them; the
@@ -94,15 +104,44 @@ pub(crate) fn build(mut st: State, warnings: &mut Vec<Warning>) -> Result<Scene,
             materials.extend(std::iter::repeat_n(id, m.triangle_count()));
             mesh.append(&m);
         }
+        let node = match &entry.object.anim {
+            Some(anim) => {
+                let before = if shared { first } else { DMat4::IDENTITY };
+                let rig = &mut scene.animation.rig;
+                let (moving, leaf) =
+                    anim.spec.add_nodes(rig, &mut channels, entry.name.as_deref(), before, anim.after, axis)?;
+                // A mesh file's lamps are in the parts' space, i.e. under the animation.
+                for light in first_light..scene.lights.len() {
+                    scene.animation.light_nodes.push((light, moving));
+                }
+                Some(leaf)
+            }
+            None => None,
+        };
+        match (entry.object.motion.clone(), &entry.object.anim) {
+            (Some((Motion::Static, f, s)), Some(anim)) => {
+                return Err(Diag::new(f, s, "`motion static` on an animated object")
+                    .label("this object moves")
+                    .also(anim.spec.file, anim.spec.span.clone(), "animated here")
+                    .note("an animated object is dynamic; remove `motion static` or the `animate` block"));
+            }
+            (Some((m, _, _)), _) => explicit.push((scene.actors.len(), m)),
+            (None, _) => {}
+        }
         let actor = Actor {
             materials,
             transform,
             motion: Motion::Static,
-            node: None,
+            node,
             deform: None,
             shading: entry.object.shading,
             ..Actor::new(entry.name, mesh, 0)
         };
+        if let Some(leaf) = node {
+            animated.push((scene.actors.len(), leaf, entry.file, entry.span));
+            scene.actors.push(actor);
+            continue;
+        }
         // Checked in world space, as the frame will hold it: a transform can overflow
         // `f32`. (Indices and attributes are the same in both spaces.)
         let checked = if transform.is_identity() { actor.mesh.validate() } else { actor.world_mesh().validate() };
@@ -113,6 +152,65 @@ pub(crate) fn build(mut st: State, warnings: &mut Vec<Warning>) -> Result<Scene,
         }
         scene.actors.push(actor);
     }
+    animate_lights_and_camera(&mut scene, &st, &mut channels, axis)?;
+    place_animated(&mut scene, channels, &animated)?;
+    // Built here, so never expected to fail; a failure is reported rather than trusted.
+    scene.validate_animation().map_err(|e| {
+        Diag::new(0, 0..0, format!("internal error: the scene's animation is inconsistent: {e}"))
+            .note("this is a bug in dynray; please report it with this file")
+    })?;
+    scene.mark_moving_actors();
+    for (a, m) in explicit {
+        scene.actors[a].motion = m;
+    }
     super::textures::resolve(&mut scene, textures, warnings);
     Ok(scene)
+}
+
+/// Nodes for the animated lights (`animation.light_nodes`) and the animated camera
+/// (`animation.camera_node`), each given in its node's space.
+fn animate_lights_and_camera(
+    scene: &mut Scene,
+    st: &State,
+    channels: &mut Vec<crate::animation::Channel>,
+    axis: Axis,
+) -> Result<(), Diag> {
+    let rig = &mut scene.animation.rig;
+    for (light, spec) in &st.light_anims {
+        let (node, _) = spec.add_nodes(rig, channels, None, DMat4::IDENTITY, DMat4::IDENTITY, axis)?;
+        scene.animation.light_nodes.push((*light, node));
+    }
+    if let Some(spec) = &st.camera_anim {
+        let (node, _) = spec.add_nodes(rig, channels, Some("camera"), DMat4::IDENTITY, DMat4::IDENTITY, axis)?;
+        scene.animation.camera_node = Some(node);
+    }
+    Ok(())
+}
+
+/// Gives the rig its one clip ("scene") and each animated actor its placement at time 0
+/// as [`Actor::transform`], checking the geometry there as static actors are checked.
+fn place_animated(
+    scene: &mut Scene,
+    channels: Vec<crate::animation::Channel>,
+    animated: &[(usize, u32, super::diag::FileId, std::ops::Range<usize>)],
+) -> Result<(), Diag> {
+    let rig = &mut scene.animation.rig;
+    if !channels.is_empty() {
+        rig.clips.push(Clip { name: Some("scene".into()), channels });
+    }
+    if rig.nodes.is_empty() {
+        return Ok(());
+    }
+    let mut world = Vec::new();
+    rig.world_matrices(0.0, &mut world);
+    for (a, leaf, file, span) in animated {
+        let actor = &mut scene.actors[*a];
+        actor.transform = Transform::new(world[*leaf as usize]);
+        if let Err(e) = actor.world_mesh().validate() {
+            return Err(Diag::new(*file, span.clone(), format!("this object's geometry is unusable: {e}"))
+                .label("placed here")
+                .note("a transform may have pushed coordinates beyond single precision"));
+        }
+    }
+    Ok(())
 }

@@ -4,10 +4,11 @@
 //! A file is read in one pass, as the seed's `SceneReader` did: `lexer.rs` makes tokens
 //! with byte spans, `parser.rs` reads statements through a generic block reader (unknown
 //! and duplicated parameters are errors), `expr.rs` evaluates typed expressions in place,
-//! `objects.rs`, `blocks.rs` and `transform.rs` read the productions, and `build.rs`
-//! turns the result into a [`Scene`]. Every error is rendered by `codespan-reporting`
+//! `objects.rs`, `blocks.rs`, `transform.rs` and `animate.rs` (keyframes) read the
+//! productions, and `build.rs` turns the result into a [`Scene`] (with its rig and timeline). Every error is rendered by `codespan-reporting`
 //! into [`LoadError::Scene`] (file:line:col, source line, caret, what was expected).
 
+mod animate;
 mod blocks;
 mod build;
 mod diag;
@@ -20,6 +21,7 @@ mod textures;
 mod transform;
 mod value;
 
+pub use animate::MAX_FRAMES;
 pub use blocks::{DEFAULT_ANGLE_DEG, MAX_FALLOFF, MAX_IMAGE_SIDE, MAX_RECURSION};
 pub use build::{auto_sphere_detail, MAX_SPHERE_DETAIL, MIN_SPHERE_DETAIL, SILHOUETTE_TOLERANCE_PX};
 pub use objects::MAX_CREASE_DEG;

@@ -6,13 +6,15 @@
 //! (centre, radius) until the whole file is read, so that `settings { sphere_detail }`
 //! applies to every sphere wherever it is written; see `build.rs`.
 
+use super::animate::AnimSpec;
 use super::diag::did_you_mean;
+use super::diag::FileId;
 use super::lexer::Tok;
 use super::mesh_file::{load_mesh_file, MeshFile, Parts};
 use super::parser::{Def, Parser, Span, R};
 use super::textures::shifted;
 use crate::shapes::cuboid;
-use crate::{Light, LightKind, Material, Shading, DEFAULT_CREASE_DEG};
+use crate::{Light, LightKind, Material, Motion, Shading, DEFAULT_CREASE_DEG};
 use dynray_geom::TriangleMesh;
 use glam::{DMat4, Vec3};
 use std::collections::HashMap;
@@ -53,6 +55,18 @@ pub(crate) struct Object {
     /// (file normals kept, generated where there are none) for mesh files, boxes and
     /// spheres (whose own normals are kept), and `Flat` for inline meshes without normals.
     pub shading: Shading,
+    /// The object's `animate` block, if it has one (docs §5.3).
+    pub anim: Option<ObjAnim>,
+    /// `motion static|dynamic` as written, with where.
+    pub motion: Option<(Motion, FileId, Span)>,
+}
+
+/// An object's animation: the keys, and the transforms written after `animate` (they
+/// apply after the animated one; those written before are in the parts).
+#[derive(Clone, Debug)]
+pub(crate) struct ObjAnim {
+    pub spec: Rc<AnimSpec>,
+    pub after: DMat4,
 }
 
 /// Largest crease angle `shading smooth` accepts, in degrees (180 smooths every edge).
@@ -64,17 +78,51 @@ impl Object {
             parts: vec![Part { shape, transform: DMat4::IDENTITY, material: None }],
             lights: Vec::new(),
             shading: Shading::Auto,
+            anim: None,
+            motion: None,
         }
     }
 
     /// Applies `m` after the transforms already there, to the parts and their lights.
+    /// After an `animate`, `m` applies after the animation (parts and lights stay in the
+    /// animation's space).
     fn transform(&mut self, m: DMat4) {
+        if let Some(a) = &mut self.anim {
+            a.after = m * a.after;
+            return;
+        }
         for p in &mut self.parts {
             p.transform = m * p.transform;
         }
         for l in &mut self.lights {
             *l = transform_light(l, &m);
         }
+    }
+
+    /// Starts the object's animation: transforms from here on apply after it. An object
+    /// has one animation (a defined one included).
+    fn animate(&mut self, spec: Rc<AnimSpec>, p: &Parser) -> R<()> {
+        if let Some(first) = &self.anim {
+            return Err(p
+                .err(spec.span.clone(), "a second `animate` for one object")
+                .label("an object has one `animate` block")
+                .also(first.spec.file, first.spec.span.clone(), "the first is here"));
+        }
+        self.anim = Some(ObjAnim { spec, after: DMat4::IDENTITY });
+        Ok(())
+    }
+
+    /// Sets `motion`; given twice (in a definition and where it is used, say) is an error.
+    fn set_motion(&mut self, m: (Motion, Span), p: &Parser) -> R<()> {
+        if let Some((_, f, s)) = &self.motion {
+            return Err(p.err(m.1, "duplicated parameter `motion`").label("given again here").also(
+                *f,
+                s.clone(),
+                "first given here",
+            ));
+        }
+        self.motion = Some((m.0, p.file, m.1));
+        Ok(())
     }
 
     /// Gives every part `m`, replacing what the parts had.
@@ -156,10 +204,12 @@ impl Parser<'_> {
                 self.bump();
                 return Ok(());
             }
-            if self.at_word("material") || self.at_word("transform") {
+            if MODIFIERS.iter().any(|m| self.at_word(m)) {
                 self.modifier(obj, what, &mut material_at)?;
             } else {
-                return Err(self.expected(&format!("`material`, `transform` or `}}` to close `{what}`")));
+                return Err(self.expected(&format!("`material`, `transform` or `}}` to close `{what}`")).note(
+                    "an object's block also takes `animate { … }` and `motion static|dynamic` (docs §5.3, §5.4)",
+                ));
             }
         }
     }
@@ -178,6 +228,14 @@ impl Parser<'_> {
             self.bump();
             let m = self.material()?;
             obj.set_material(&m);
+        } else if self.at_word("animate") {
+            self.bump();
+            let spec = self.animate(span)?;
+            obj.animate(Rc::new(spec), self)?;
+        } else if self.at_word("motion") {
+            self.bump();
+            let m = self.motion()?;
+            obj.set_motion(m, self)?;
         } else {
             self.bump();
             let m = self.transform()?;
@@ -246,6 +304,8 @@ impl Parser<'_> {
                         .collect(),
                     lights,
                     shading: shading.unwrap_or(Shading::Auto),
+                    anim: None,
+                    motion: None,
                 }
             }
             None => {
@@ -275,9 +335,7 @@ impl Parser<'_> {
             "smooth" => {
                 let crease_given = match self.peek() {
                     Tok::Punct('}') | Tok::Eof => false,
-                    Tok::Name(n) => {
-                        !MESH_KEYS.contains(&n.as_str()) && !["material", "transform"].contains(&n.as_str())
-                    }
+                    Tok::Name(n) => !MESH_KEYS.contains(&n.as_str()) && !MODIFIERS.contains(&n.as_str()),
                     _ => true,
                 };
                 let crease_deg = if crease_given {
@@ -292,6 +350,22 @@ impl Parser<'_> {
             other => {
                 let mut d = self.err(span, format!("unknown shading `{other}`")).label(format!("expected {expected}"));
                 if let Some(s) = did_you_mean(other, WORDS) {
+                    d = d.note(format!("did you mean `{s}`?"));
+                }
+                Err(d)
+            }
+        }
+    }
+
+    /// `static | dynamic` after `motion`, with the word's span.
+    fn motion(&mut self) -> R<(Motion, Span)> {
+        let (word, span) = self.name("`static` or `dynamic` after `motion`")?;
+        match word.as_str() {
+            "static" => Ok((Motion::Static, span)),
+            "dynamic" => Ok((Motion::Dynamic, span)),
+            other => {
+                let mut d = self.err(span, format!("unknown motion `{other}`")).label("expected `static` or `dynamic`");
+                if let Some(s) = did_you_mean(other, ["static", "dynamic"]) {
                     d = d.note(format!("did you mean `{s}`?"));
                 }
                 Err(d)
@@ -497,9 +571,18 @@ impl Parser<'_> {
         F: FnMut(&mut Self, &str, Span) -> R<()>,
     {
         let mut allowed: Vec<&str> = own.to_vec();
-        allowed.extend(["material", "transform"]);
+        allowed.extend(MODIFIERS);
         let mut mods = Mods::default();
         let block = self.block(what, &allowed, &["transform"], |p, key, span| match key {
+            "animate" => {
+                mods.0.push(Mod::Animate(Rc::new(p.animate(span)?)));
+                Ok(())
+            }
+            "motion" => {
+                let (m, s) = p.motion()?;
+                mods.0.push(Mod::Motion(m, p.file, s));
+                Ok(())
+            }
             "material" => {
                 mods.0.push(Mod::Material(p.material()?));
                 Ok(())
@@ -513,6 +596,9 @@ impl Parser<'_> {
         Ok((block, mods))
     }
 }
+
+/// The modifiers every object block takes (docs §5).
+const MODIFIERS: [&str; 4] = ["material", "transform", "animate", "motion"];
 
 /// The keys of a `mesh` block besides the modifiers.
 const MESH_KEYS: [&str; 5] = ["file", "vertices", "normals", "triangles", "shading"];
@@ -528,6 +614,9 @@ struct Tri {
 enum Mod {
     Material(Rc<Material>),
     Transform(DMat4),
+    /// Within one block `animate` and `motion` cannot repeat ([`Parser::block`] checks).
+    Animate(Rc<AnimSpec>),
+    Motion(Motion, FileId, Span),
 }
 
 /// Modifiers in written order.
@@ -540,6 +629,8 @@ impl Mods {
             match m {
                 Mod::Material(m) => obj.set_material(&m),
                 Mod::Transform(t) => obj.transform(t),
+                Mod::Animate(a) => obj.anim = Some(ObjAnim { spec: a, after: DMat4::IDENTITY }),
+                Mod::Motion(m, f, s) => obj.motion = Some((m, f, s)),
             }
         }
     }

@@ -3,6 +3,7 @@
 //! `include`. Like the seed's `SceneReader`, it evaluates as it parses: expressions become
 //! values and definitions become entries of [`State`] immediately.
 
+use super::animate::AnimSpec;
 use super::diag::{did_you_mean, Diag, FileId, Sources};
 use super::lexer::{tokenize, Tok, Token};
 use super::objects::Object;
@@ -46,10 +47,10 @@ pub(crate) enum Def {
     Value(Value),
     /// A model (placed only by `object name`).
     Object(Rc<Object>),
-    /// A light (added only by `light name`).
-    Light(Light),
-    /// A camera (used only by `camera name`).
-    Camera(Camera),
+    /// A light (added only by `light name`), with its animation.
+    Light(Light, Option<Rc<AnimSpec>>),
+    /// A camera (used only by `camera name`), with its animation.
+    Camera(Camera, Option<Rc<AnimSpec>>),
     /// A material.
     Material(Rc<Material>),
     /// An affine transform (points are mapped by this matrix).
@@ -66,8 +67,8 @@ impl Def {
                 Value::Color(_) => "a colour",
             },
             Def::Object(_) => "an object",
-            Def::Light(_) => "a light",
-            Def::Camera(_) => "a camera",
+            Def::Light(..) => "a light",
+            Def::Camera(..) => "a camera",
             Def::Material(_) => "a material",
             Def::Transform(_) => "a transform",
         }
@@ -105,6 +106,14 @@ pub(crate) struct State {
     pub settings: Option<(Settings, FileId, Span)>,
     /// `settings { sphere_detail n }`: longitude segments of tessellated spheres.
     pub sphere_detail: Option<u32>,
+    /// `settings { frames n }` (docs §9; default 1).
+    pub frames: Option<u32>,
+    /// `settings { frame_rate r }` (default 24).
+    pub frame_rate: Option<f32>,
+    /// `(light, animation)`: light `light` of `lights` is animated.
+    pub light_anims: Vec<(usize, Rc<AnimSpec>)>,
+    /// The camera's animation.
+    pub camera_anim: Option<Rc<AnimSpec>>,
     /// Canonical paths of the files being read, outermost first (include cycle check).
     pub include_stack: Vec<PathBuf>,
     /// Warnings of the mesh files read so far, in reading order.
@@ -302,14 +311,18 @@ impl<'s> Parser<'s> {
                 self.st.actors.push(ActorEntry { name, object, file: self.file, span });
             }
             "light" => {
-                let light = self.light()?;
+                let (light, anim) = self.light()?;
+                if let Some(a) = anim {
+                    self.st.light_anims.push((self.st.lights.len(), a));
+                }
                 self.st.lights.push(light);
             }
             "camera" => {
-                let cam = self.camera()?;
+                let (cam, anim) = self.camera()?;
                 let span = start.start..self.prev_end();
                 self.once("camera", span.clone(), |st| &mut st.camera)?;
                 self.st.camera = Some((cam, self.file, span));
+                self.st.camera_anim = anim;
             }
             "environment" => {
                 self.bump();
@@ -387,8 +400,14 @@ impl<'s> Parser<'s> {
                 object.name_materials(&name);
                 Def::Object(Rc::new(object))
             }
-            Tok::Name(w) if w == "light" => Def::Light(self.light()?),
-            Tok::Name(w) if w == "camera" => Def::Camera(self.camera()?),
+            Tok::Name(w) if w == "light" => {
+                let (l, a) = self.light()?;
+                Def::Light(l, a)
+            }
+            Tok::Name(w) if w == "camera" => {
+                let (c, a) = self.camera()?;
+                Def::Camera(c, a)
+            }
             Tok::Name(w) if w == "material" => {
                 self.bump();
                 let mut m = (*self.material()?).clone();
