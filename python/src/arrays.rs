@@ -103,7 +103,10 @@ pub fn scalar_or_column(obj: &Bound<'_, PyAny>, n: usize, what: &str) -> PyResul
     }
     let a = ndarray(obj, what)?;
     if a.shape() != [n] {
-        return Err(PyValueError::new_err(format!("{what} must be a number or have shape ({n},), found {:?}", a.shape())));
+        return Err(PyValueError::new_err(format!(
+            "{what} must be a number or have shape ({n},), found {:?}",
+            a.shape()
+        )));
     }
     if let Ok(a) = a.extract::<PyReadonlyArray1<'_, f32>>() {
         return Ok(a.as_array().to_vec());

@@ -24,9 +24,7 @@ impl Rays<'_> {
     /// The rays as a slice.
     pub fn as_slice(&self) -> &[Ray] {
         match self {
-            Rays::Borrowed(a) => {
-                bytemuck::cast_slice(a.as_slice().expect("checked contiguous when borrowed"))
-            }
+            Rays::Borrowed(a) => bytemuck::cast_slice(a.as_slice().expect("checked contiguous when borrowed")),
             Rays::Owned(v) => v,
         }
     }

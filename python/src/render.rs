@@ -2,8 +2,8 @@
 //! render` calls it) into a numpy image.
 
 use crate::errors::build_error;
-use crate::scene::{load, Scene};
 use crate::pool;
+use crate::scene::{load, Scene};
 use dynray_render::{IntegratorKind, RenderOptions};
 use dynray_scene::Shading;
 use numpy::{IntoPyArray, PyArray3, PyArrayMethods};

@@ -107,7 +107,9 @@ impl Structure {
         let columns = py.detach(|| {
             rays::check(slice)?;
             let state = this.read();
-            Ok::<_, PyErr>(pool::run(&pool, || Columns::new(&state.accel.intersect_batch(slice), &state.mesh, normal, point)))
+            Ok::<_, PyErr>(pool::run(&pool, || {
+                Columns::new(&state.accel.intersect_batch(slice), &state.mesh, normal, point)
+            }))
         })?;
         columns.into_dict(py)
     }
@@ -238,6 +240,11 @@ impl Structure {
 
     fn __repr__(&self) -> String {
         let state = self.read();
-        format!("Structure({}, {} triangles, {} bytes)", self.spec, state.mesh.triangle_count(), state.accel.memory_bytes())
+        format!(
+            "Structure({}, {} triangles, {} bytes)",
+            self.spec,
+            state.mesh.triangle_count(),
+            state.accel.memory_bytes()
+        )
     }
 }

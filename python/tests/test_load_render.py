@@ -34,12 +34,15 @@ def test_npz_and_scn(tmp_path, small_mesh):
     m = dynray.load(tmp_path / "m.npz").mesh
     assert np.array_equal(m.vertices, small_mesh.vertices) and np.array_equal(m.faces, small_mesh.faces)
     scn = tmp_path / "s.scn"
-    scn.write_text(f'mesh {{ file "{tmp_path / "m.npz"}" }}\npoint_light {{ position (0, 1, 2) }}\n')
-    try:
-        sc = dynray.load(scn)
-    except ValueError as e:  # the scene language's own syntax is the engine's to judge
-        pytest.skip(f"scene syntax of this test is off: {e}")
-    assert sc.mesh.triangle_count == small_mesh.triangle_count
+    scn.write_text('settings { image_width 64 image_height 32 }\n'
+                   'camera { perspective position <0, 0.1, 1> to <0, 0.1, 0> up <0, 1, 0> angle 40 }\n'
+                   'light { position <0, 1, 2> color white falloff 0 }\n'
+                   'mesh { file "m.npz" }\n')
+    sc = dynray.load(scn)
+    assert sc.mesh.triangle_count == small_mesh.triangle_count and sc.size == (64, 32)
+    assert sc.camera["position"] == pytest.approx([0, 0.1, 1]) and sc.camera["fov_y_deg"] == pytest.approx(40)
+    assert sc.lights == [{"kind": "point", "position": [0.0, 1.0, 2.0], "falloff": 0, "color": [1.0, 1.0, 1.0]}]
+    assert dynray.render(sc).shape == (32, 64, 3)
 
 
 def test_bunny_triangles_are_the_files_faces(bunny):
