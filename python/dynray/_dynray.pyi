@@ -1,6 +1,7 @@
 """Type stubs of the extension module (python/src/*.rs); docs/python.md is the guide."""
 
 from os import PathLike
+from pathlib import Path
 from typing import Any, Dict, List, Optional, Sequence, Tuple, TypedDict, Union
 
 import numpy as np
@@ -53,7 +54,7 @@ class Scene:
     materials, lights, camera, image size and loader warnings."""
 
     @property
-    def path(self) -> str: ...
+    def path(self) -> Path: ...
     @property
     def mesh(self) -> Mesh: ...
     @property

@@ -38,8 +38,11 @@ pub fn float_rows<const C: usize>(obj: &Bound<'_, PyAny>, what: &str) -> PyResul
     let a = ndarray(obj, what)?;
     rows_of(&a, C, what)?;
     if let Ok(a) = a.extract::<PyReadonlyArray2<'_, f32>>() {
-        if let Ok(flat) = a.as_slice() {
-            return Ok(flat.chunks_exact(C).map(|r| std::array::from_fn(|j| r[j])).collect());
+        // `as_slice` also accepts Fortran-contiguous arrays: only C order is read flat.
+        if a.is_c_contiguous() {
+            if let Ok(flat) = a.as_slice() {
+                return Ok(flat.chunks_exact(C).map(|r| std::array::from_fn(|j| r[j])).collect());
+            }
         }
         return Ok(a.as_array().rows().into_iter().map(|r| std::array::from_fn(|j| r[j])).collect());
     }

@@ -78,7 +78,9 @@ fn rows8<'py>(obj: &Bound<'py, PyAny>) -> PyResult<Rays<'py>> {
     let a = ndarray(obj, "rays")?;
     arrays::rows_of(&a, 8, "rays")?;
     if let Ok(f) = a.extract::<PyReadonlyArray2<'py, f32>>() {
-        let in_place = f.as_slice().is_ok_and(|s| bytemuck::try_cast_slice::<f32, Ray>(s).is_ok());
+        // C order only (`as_slice` also takes Fortran-contiguous data), and 4-byte aligned.
+        let in_place =
+            f.is_c_contiguous() && f.as_slice().is_ok_and(|s| bytemuck::try_cast_slice::<f32, Ray>(s).is_ok());
         if in_place {
             return Ok(Rays::Borrowed(f));
         }

@@ -77,6 +77,7 @@ def test_build_errors_are_the_engines():
 def test_query_errors():
     s = dynray.build(dynray.Mesh(V, F))
     rays = np.zeros((4, 8), np.float32)
+    rays[:, 0], rays[:, 1], rays[:, 2] = [0.2, 2, 3, 4], 0.2, 1  # the first one above the triangle
     rays[:, 5], rays[:, 7] = -1, np.inf
     with pytest.raises(ValueError, match=r"rays must have shape \(N, 8\), found \[4, 7\]"):
         s.intersect(rays[:, :7])
@@ -95,7 +96,7 @@ def test_query_errors():
     with pytest.raises(ValueError, match=r"tmax must be a number or have shape \(4,\)"):
         s.intersect(rays[:, :3], rays[:, 3:6], tmax=np.ones(3))
     with pytest.raises(TypeError, match="float32 or float64, found int64"):
-        s.intersect(rays.astype(np.int64))
+        s.intersect(np.zeros((4, 8), np.int64))
     assert s.intersect(rays)["prim"].tolist() == [0, -1, -1, -1]  # still usable
 
 

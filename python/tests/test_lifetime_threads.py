@@ -87,7 +87,7 @@ def test_the_gil_is_released_while_tracing(bunny):
     """A Python thread keeps running during one long query: with the GIL held it could
     not run a single bytecode between the call's start and end."""
     s = dynray.build(bunny.mesh, "brute")  # slow on purpose: the call lasts a while
-    rays = random_rays(bunny.mesh, 3000, 9)
+    rays = random_rays(bunny.mesh, 1000, 9)
     ticks, stop = [], threading.Event()
 
     def tick():

@@ -36,7 +36,7 @@ def test_npz_and_scn(tmp_path, small_mesh):
     scn = tmp_path / "s.scn"
     scn.write_text('settings { image_width 64 image_height 32 }\n'
                    'camera { perspective position <0, 0.1, 1> to <0, 0.1, 0> up <0, 1, 0> angle 40 }\n'
-                   'light { position <0, 1, 2> color white falloff 0 }\n'
+                   'light { position <0, 1, 2> color rgb(1, 1, 1) falloff 0 }\n'
                    'mesh { file "m.npz" }\n')
     sc = dynray.load(scn)
     assert sc.mesh.triangle_count == small_mesh.triangle_count and sc.size == (64, 32)
