@@ -112,8 +112,9 @@ def main(argv=None):
     except ImportError as e:
         embree = None
         print(f"embreex is not installed ({e}): timing dynray alone (pip install embreex)")
-    print(f"dynray {dynray.__version__}, {os.cpu_count()} cores, {a.rays} rays per kind, accel {a.accel}, "
-          f"median of {a.repeat}")
+    # (Not "dynray …" first: docs quote this line, and docs' lines that start so are commands.)
+    print(f"python -m dynray.bench, dynray {dynray.__version__}: {os.cpu_count()} cores, {a.rays} rays per kind, "
+          f"accel {a.accel}, median of {a.repeat}")
     header = f"{'scene':8} {'rays':8} {'query':8} {'dynray':>10} {'dynray 1T':>10} {'embreex':>10} " \
              f"{'ratio':>7} {'ratio 1T':>8} {'same prim':>9}"
     for name in a.scenes.split(","):
