@@ -349,3 +349,51 @@ fn write_npz(path: &Path, fill: impl FnOnce(&mut Npz) -> std::io::Result<()>) ->
     tmp.persist(path).with_context(|| format!("{}: cannot move the finished file into place", path.display()))?;
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use dynray_geom::Vec3;
+
+    #[test]
+    fn field_names_parse_back_and_unknown_ones_list_the_choices() {
+        for f in HitField::ALL {
+            assert_eq!(f.name().parse::<HitField>(), Ok(f));
+        }
+        let e = "depth".parse::<HitField>().unwrap_err();
+        assert!(e.contains("`depth`") && e.contains("t, prim, u, v, normal, point"), "{e}");
+    }
+
+    #[test]
+    fn check_rays_names_the_first_bad_row() {
+        let good = Ray::new(Vec3::ZERO, Vec3::X);
+        let mut rays = vec![good; 4];
+        assert_eq!(check_rays(&rays), Ok(()));
+        rays[2].dir.y = f32::INFINITY;
+        assert!(check_rays(&rays).unwrap_err().starts_with("ray 2 has a non-finite"));
+        rays[2] = good;
+        rays[3].tmin = f32::NAN;
+        assert_eq!(check_rays(&rays).unwrap_err(), "ray 3 has a NaN tmin or tmax");
+        // An empty interval is legal: it simply never hits.
+        rays[3] = Ray::with_interval(Vec3::ZERO, Vec3::X, 2.0, 1.0);
+        assert_eq!(check_rays(&rays), Ok(()));
+    }
+
+    #[test]
+    fn outputs_must_be_npz_archives() {
+        assert!(check_output(Path::new("hits.NPZ")).is_ok());
+        for bad in ["-", "hits.npy", "hits"] {
+            assert!(check_output(Path::new(bad)).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn normals_and_points_are_nan_on_a_miss() {
+        let mesh = TriangleMesh::new(vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], vec![[0, 1, 2]]);
+        let hit = Hit { t: 1.0, u: 0.25, v: 0.5, prim: 0 };
+        let hits = [hit, Hit::MISS];
+        assert_eq!(hit_normals(&hits, &mesh)[0], [0.0, 0.0, 1.0]);
+        assert_eq!(hit_points(&hits, &mesh)[0], [0.25, 0.5, 0.0]);
+        assert!(hit_normals(&hits, &mesh)[1].iter().chain(&hit_points(&hits, &mesh)[1]).all(|x| x.is_nan()));
+    }
+}
