@@ -3,6 +3,7 @@
 use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::{Args, Parser, Subcommand};
 use dynray_accel::{AccelSpec, UpdatePolicy};
+use dynray_bench::trace_rays::HitField;
 use dynray_bench::{BenchConfig, Preset, RayKind};
 use dynray_render::{Aov, IntegratorKind};
 use std::path::PathBuf;
@@ -130,7 +131,8 @@ pub struct TraceRaysArgs {
     pub occluded: bool,
     /// Arrays of the closest hits to write: `normal` (unit geometric normal) and `point`
     /// (hit point) are (N, 3), NaN on a miss.
-    #[arg(long, value_name = "LIST", value_delimiter = ',', default_value = "t,prim,u,v")]
+    #[arg(long, value_name = "LIST", value_delimiter = ',', default_value = "t,prim,u,v",
+        value_parser = PossibleValuesParser::new(HitField::NAMES).map(|s| s.parse::<HitField>().expect("listed names parse")))]
     pub fields: Vec<HitField>,
     #[command(flatten)]
     pub when: TimeArgs,
@@ -218,37 +220,6 @@ fn parse_shard(s: &str) -> Result<(u32, u32), String> {
         return Err(bad());
     }
     Ok((k, n))
-}
-
-/// An array `trace-rays` can write for closest hits (docs/trace-rays.md).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum HitField {
-    /// Ray parameter of the hit (inf on a miss).
-    T,
-    /// Triangle index (-1 on a miss).
-    Prim,
-    /// Barycentric weight of the triangle's second vertex.
-    U,
-    /// Barycentric weight of the third vertex.
-    V,
-    /// Unit geometric normal, as the triangle is wound.
-    Normal,
-    /// Hit point on the triangle.
-    Point,
-}
-
-impl HitField {
-    /// The array's name in the archive.
-    pub fn name(self) -> &'static str {
-        match self {
-            HitField::T => "t",
-            HitField::Prim => "prim",
-            HitField::U => "u",
-            HitField::V => "v",
-            HitField::Normal => "normal",
-            HitField::Point => "point",
-        }
-    }
 }
 
 /// `dynray info`.

@@ -24,6 +24,7 @@ pub mod rays;
 pub mod report;
 pub mod run;
 pub mod scenes;
+pub mod trace_rays;
 pub mod variant;
 
 pub use config::{BenchConfig, Preset};

@@ -1,0 +1,56 @@
+//! `dynray.trace_rays`: the command line's file interface (`dynray trace-rays`), the same
+//! code (`dynray_bench::trace_rays`), for scripts that have files rather than arrays.
+
+use crate::errors::{build_error, file_error};
+use crate::pool;
+use dynray_bench::trace_rays::{run as run_job, HitField, Job, Notice, Query};
+use pyo3::exceptions::{PyUserWarning, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use std::path::PathBuf;
+
+/// Reads `mesh_path` (any format dynray reads, unshaded) and the (N, 8) `.npy` rays,
+/// builds `accel`, traces, and writes `out_path` (`.npz`) exactly as `dynray trace-rays
+/// MESH --rays RAYS -o OUT --accel ACCEL [--occluded | --fields …]` does. `fields`
+/// defaults to `["t", "prim", "u", "v"]`. The CLI's notes (converted rays) and load
+/// warnings are issued as `UserWarning`s. Returns the counts and times (ms) as a dict.
+#[pyfunction]
+#[pyo3(signature = (mesh_path, rays_path, out_path, accel = "bvh", occluded = false, fields = None, *, threads = None))]
+#[allow(clippy::too_many_arguments)]
+pub fn trace_rays<'py>(
+    py: Python<'py>,
+    mesh_path: PathBuf,
+    rays_path: PathBuf,
+    out_path: PathBuf,
+    accel: &str,
+    occluded: bool,
+    fields: Option<Vec<String>>,
+    threads: Option<usize>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let spec: dynray_accel::AccelSpec = accel.parse().map_err(build_error)?;
+    let query = match (occluded, fields) {
+        (true, Some(_)) => return Err(PyValueError::new_err("fields cannot be given with occluded=True")),
+        (true, None) => Query::Occluded,
+        (false, None) => Query::Closest(HitField::DEFAULT.to_vec()),
+        (false, Some(names)) => Query::Closest(
+            names.iter().map(|n| n.parse::<HitField>()).collect::<Result<_, _>>().map_err(PyValueError::new_err)?,
+        ),
+    };
+    let pool = pool::pool(threads)?;
+    let job = Job { mesh: &mesh_path, rays: &rays_path, output: &out_path, accel: &spec, query, pose: None };
+    let mut notices = Vec::new();
+    let result = py.detach(|| pool::run(&pool, || run_job(&job, &mut |n| notices.push(n))));
+    for n in notices {
+        let (Notice::Note(m) | Notice::Warning(m)) = n;
+        PyErr::warn(py, &py.get_type::<PyUserWarning>(), &std::ffi::CString::new(m).unwrap_or_default(), 1)?;
+    }
+    let s = result.map_err(file_error)?;
+    let d = PyDict::new(py);
+    d.set_item("rays", s.rays)?;
+    d.set_item(if s.occluded { "occluded" } else { "hits" }, s.hits)?;
+    d.set_item("accel", s.accel)?;
+    for (k, t) in [("read_ms", s.read), ("build_ms", s.build), ("trace_ms", s.trace), ("write_ms", s.write)] {
+        d.set_item(k, t.as_secs_f64() * 1e3)?;
+    }
+    Ok(d)
+}
