@@ -1,7 +1,8 @@
 //! `dynray animate` and the `--time`/`--frame` options through the binary, on the skinned
 //! CesiumMan (glTF): frames move; shards together are a full run byte for byte; a run
 //! killed part-way and resumed gives the same frames; timings and exported meshes hold
-//! what they say; bad options fail clearly.
+//! what they say; `trace-rays --time` answers for that instant's geometry; bad options
+//! fail clearly.
 
 mod support;
 
@@ -163,4 +164,62 @@ fn bad_animate_options_fail_clearly() {
     let o = animate(tmp.path(), &["--update", "sometimes"]);
     assert_eq!(o.status.code(), Some(2));
     assert!(frames_in(tmp.path()).is_empty(), "a failed run left frames");
+}
+
+#[test]
+fn trace_rays_answers_for_the_geometry_at_the_time_asked() {
+    use dynray_accel::{Accel, Brute};
+    use dynray_geom::{Ray, Vec3};
+    use npyz::WriterBuilder;
+    let tmp = tempfile::tempdir().unwrap();
+    // Rays across CesiumMan's legs, which move between 0 s and 1 s.
+    let rows: Vec<[f32; 8]> = (0..400)
+        .map(|i| {
+            let x = -0.4 + 0.8 * (i % 20) as f32 / 19.0;
+            let y = 0.05 + 0.7 * (i / 20) as f32 / 19.0;
+            [x, y, 2.0, 0.0, 0.0, -1.0, 0.0, f32::INFINITY]
+        })
+        .collect();
+    let rays_path = tmp.path().join("rays.npy");
+    let mut w = npyz::WriteOptions::<f32>::new()
+        .default_dtype()
+        .shape(&[rows.len() as u64, 8])
+        .writer(std::fs::File::create(&rays_path).unwrap())
+        .begin_nd()
+        .unwrap();
+    w.extend(rows.iter().flatten().copied()).unwrap();
+    w.finish().unwrap();
+    let scene_path = cesium_man();
+    let scene = dynray_scene::load_file_unshaded(&scene_path).unwrap().scene;
+    let mut prims_at = Vec::new();
+    for t in ["0", "1"] {
+        let out = tmp.path().join(format!("hits_{t}.npz"));
+        ok(dynray(&[
+            "trace-rays",
+            scene_path.to_str().unwrap(),
+            "--rays",
+            rays_path.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--time",
+            t,
+        ]));
+        let mut npz = npyz::npz::NpzArchive::open(&out).unwrap();
+        let tv: Vec<f32> = npz.by_name("t").unwrap().unwrap().into_vec().unwrap();
+        let prim: Vec<i64> = npz.by_name("prim").unwrap().unwrap().into_vec().unwrap();
+        let frame = scene.frame(t.parse().unwrap());
+        let brute = Brute::build(&frame.mesh).unwrap();
+        for (i, r) in rows.iter().enumerate() {
+            let h = brute.intersect(&Ray::with_interval(
+                Vec3::new(r[0], r[1], r[2]),
+                Vec3::new(r[3], r[4], r[5]),
+                r[6],
+                r[7],
+            ));
+            let want = if h.is_hit() { h.prim as i64 } else { -1 };
+            assert_eq!((prim[i], tv[i].to_bits()), (want, h.t.to_bits()), "ray {i} at t = {t}");
+        }
+        prims_at.push(prim);
+    }
+    assert_ne!(prims_at[0], prims_at[1], "the legs did not move between 0 s and 1 s");
 }

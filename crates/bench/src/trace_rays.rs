@@ -88,8 +88,12 @@ pub struct Job<'a> {
     /// Chooses the instant of an animated file (clip, frame rate, time) and returns its
     /// time; `None` is frame 0 of the file's timeline. The CLI's `--time`, `--frame`,
     /// `--clip` and `--fps` come through here.
-    pub pose: Option<&'a (dyn Fn(&mut dynray_scene::Scene) -> Result<f32> + Sync)>,
+    pub pose: Option<&'a Pose<'a>>,
 }
+
+/// Chooses the instant of an animated scene (its clip, frame rate, time) and returns the
+/// time to pose it at.
+pub type Pose<'p> = dyn Fn(&mut dynray_scene::Scene) -> Result<f32> + Sync + 'p;
 
 /// Something a person should see that does not stop the run.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -181,11 +185,7 @@ pub fn load_mesh(path: &Path, notices: &mut dyn FnMut(Notice)) -> Result<Triangl
 }
 
 /// [`load_mesh`] at the instant `pose` chooses (frame 0 without one).
-pub fn load_posed(
-    path: &Path,
-    pose: Option<&(dyn Fn(&mut dynray_scene::Scene) -> Result<f32> + Sync)>,
-    notices: &mut dyn FnMut(Notice),
-) -> Result<TriangleMesh> {
+pub fn load_posed(path: &Path, pose: Option<&Pose<'_>>, notices: &mut dyn FnMut(Notice)) -> Result<TriangleMesh> {
     let mut report = dynray_scene::load_file_unshaded(path)?;
     let mut shown = Vec::with_capacity(report.warnings.len());
     for w in &report.warnings {

@@ -14,7 +14,7 @@ impl Bih {
     /// The normalised SAH cost of the tree (`None` for an empty or flat scene box).
     pub fn sah_cost(&self) -> Option<f64> {
         let root_area = self.bounds.surface_area() as f64;
-        if self.nodes.is_empty() || !(root_area > 0.0) {
+        if self.nodes.is_empty() || root_area.is_nan() || root_area <= 0.0 {
             return None;
         }
         let mut sum = 0.0f64;
