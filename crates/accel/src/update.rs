@@ -129,6 +129,9 @@ pub struct LiveAccel {
     indices: Vec<[u32; 3]>,
     /// SAH cost of the last fresh build.
     built_cost: Option<f64>,
+    /// The cost ratio the last update reported (a kept frame reports it again rather
+    /// than walking the unchanged tree).
+    last_ratio: Option<f64>,
 }
 
 impl LiveAccel {
@@ -150,6 +153,7 @@ impl LiveAccel {
             positions: mesh.positions.clone(),
             indices: mesh.indices.clone(),
             built_cost,
+            last_ratio: built_cost.filter(|&b| b > 0.0).map(|_| 1.0),
         };
         Ok((live, time))
     }
@@ -171,8 +175,7 @@ impl LiveAccel {
         let same_topology = mesh.indices == self.indices && mesh.positions.len() == self.positions.len();
         let view_dependent = eye.is_some() && self.spec.kind.is_view_dependent();
         if same_topology && mesh.positions == self.positions && !view_dependent {
-            let ratio = self.ratio(self.built_cost.and_then(|_| cost(self.accel.as_ref(), self.policy)));
-            return Ok(UpdateReport { action: UpdateAction::Kept, time: Duration::ZERO, cost_ratio: ratio });
+            return Ok(UpdateReport { action: UpdateAction::Kept, time: Duration::ZERO, cost_ratio: self.last_ratio });
         }
         let t = Instant::now();
         let refits = self.accel.update_refits() && same_topology;
@@ -200,7 +203,8 @@ impl LiveAccel {
         let time = t.elapsed();
         self.positions.clone_from(&mesh.positions);
         self.indices.clone_from(&mesh.indices);
-        Ok(UpdateReport { action, time, cost_ratio: self.ratio(now) })
+        self.last_ratio = self.ratio(now);
+        Ok(UpdateReport { action, time, cost_ratio: self.last_ratio })
     }
 
     fn rebuild(&mut self, mesh: &TriangleMesh, eye: Option<Vec3>) -> Result<(), BuildError> {

@@ -104,3 +104,20 @@ fn refit_rejects_a_different_triangle_count() {
     let (_, mut b) = built(16);
     assert!(matches!(b.refit(&strip(17)), Err(BuildError::TopologyChanged { built: 16, given: 17 })));
 }
+
+#[test]
+fn the_per_frame_sah_cost_is_the_one_stats_reports() {
+    // `Accel::sah_cost` sums the node array in order, `stats` walks the tree: the same
+    // terms, so equal up to the order of a floating-point sum.
+    let m = strip(1000);
+    let mut bvh = Bvh::build(&m, &BvhParams::default()).unwrap();
+    let mut moved = m.clone();
+    for (i, p) in moved.positions.iter_mut().enumerate() {
+        p[1] += (i % 7) as f32 * 0.3;
+    }
+    for mesh in [&m, &moved] {
+        bvh.refit(mesh).unwrap();
+        let (fast, full) = (Accel::sah_cost(&bvh).unwrap(), bvh.stats().sah_cost.unwrap());
+        assert!((fast - full).abs() <= 1e-9 * full, "{fast} vs {full}");
+    }
+}

@@ -218,13 +218,6 @@ impl Rig {
         self.clips.get(self.active_clip)
     }
 
-    /// Whether node `node`'s world matrix can change with time: it or an ancestor is
-    /// animated by the active clip.
-    pub fn node_moves(&self, node: u32) -> bool {
-        let animated: Vec<bool> = self.animated_nodes();
-        animated.get(node as usize).copied().unwrap_or(false)
-    }
-
     /// Per node, whether its world matrix can change with time under the active clip.
     pub fn animated_nodes(&self) -> Vec<bool> {
         let mut moves = vec![false; self.nodes.len()];
