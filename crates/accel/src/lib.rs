@@ -62,7 +62,7 @@ pub mod update;
 
 pub use accel::{Accel, AccelStats, InvalidStructure, LeafSizes};
 pub use apit::{ABuffer, Apit, ApitParams, Fragment};
-pub use batch::{BatchQuery, BATCH_CHUNK};
+pub use batch::{check_batch_lengths, BatchQuery, BATCH_CHUNK};
 pub use bih::{Bih, BihParams};
 pub use brute::Brute;
 pub use bvh::{Bvh, BvhParams};

@@ -70,6 +70,11 @@ impl Bvh {
     pub fn params(&self) -> &BvhParams {
         &self.params
     }
+
+    /// Depth of the deepest leaf (root = 0): what a traversal stack must hold.
+    pub fn depth(&self) -> u32 {
+        self.depth
+    }
 }
 
 impl Accel for Bvh {

@@ -1,0 +1,23 @@
+//! The GPU backend of dynray (docs/gpu.md): a wgpu device on Vulkan, WGSL kernels in
+//! `shaders/`, structures uploaded as the same Pod buffers the CPU traverses.
+//!
+//! - [`GpuContext`] chooses an adapter (`DYNRAY_GPU_ADAPTER`) and opens a device with
+//!   the features the kernels use (64-bit floats, timestamps) where the adapter has them.
+//! - [`GpuBvh`] is a BVH on the device; it implements [`dynray_accel::BatchQuery`], so
+//!   `trace-rays`, the bench and the renderer trace through it as through a CPU structure.
+//!
+//! Exactness: where the adapter has `SHADER_F64`, the kernels run the engine's f64
+//! watertight test in the CPU's operation order, and [`GpuContext::exactness`] checks at
+//! start-up that the device rounds as the CPU does; hits then equal brute force's bit for
+//! bit. Without f64 the kernels run the same test in f32 ([`Precision::F32`]).
+
+mod buffer;
+mod bvh;
+mod device;
+mod error;
+mod kernel;
+mod shader;
+
+pub use bvh::GpuBvh;
+pub use device::{list_adapters, AdapterSummary, Exactness, GpuContext, GpuOptions, Precision};
+pub use error::{GpuError, SOFTWARE_DRIVER_HINT};
