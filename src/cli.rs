@@ -5,6 +5,7 @@ use clap::{Args, Parser, Subcommand};
 use dynray_accel::{AccelSpec, UpdatePolicy};
 use dynray_bench::trace_rays::HitField;
 use dynray_bench::{BenchConfig, Preset, RayKind};
+use dynray_gpu::{Backend, GpuOptions};
 use dynray_render::{Aov, IntegratorKind};
 use std::path::PathBuf;
 
@@ -34,6 +35,25 @@ pub enum Command {
     /// Measure acceleration structures on test models: build, memory, Mrays/s, work per
     /// ray, time to image, heat maps; every structure checked against brute force.
     Bench(BenchArgs),
+}
+
+/// Where rays are traced (docs/gpu.md).
+#[derive(Args, Debug, Default, Clone)]
+pub struct BackendArgs {
+    /// Trace on the CPU or on the GPU (docs/gpu.md; the GPU traces `bvh`).
+    #[arg(long, default_value = "cpu", value_parser = PossibleValuesParser::new(Backend::NAMES).map(|s| s.parse::<Backend>().expect("listed names parse")))]
+    pub backend: Backend,
+    /// GPU adapter: a case-insensitive substring of its name (default: $DYNRAY_GPU_ADAPTER,
+    /// else the most capable; `dynray info --gpu` lists them).
+    #[arg(long, value_name = "NAME")]
+    pub gpu_adapter: Option<String>,
+}
+
+impl BackendArgs {
+    /// The GPU's options when `--backend gpu`, `None` for the CPU.
+    pub fn gpu_options(&self) -> Option<GpuOptions> {
+        (self.backend == Backend::Gpu).then(|| GpuOptions { adapter: self.gpu_adapter.clone(), ..Default::default() })
+    }
 }
 
 /// Which instant of an animated scene a command looks at (docs/animate.md, "Time").
@@ -136,6 +156,8 @@ pub struct TraceRaysArgs {
     pub fields: Vec<HitField>,
     #[command(flatten)]
     pub when: TimeArgs,
+    #[command(flatten)]
+    pub backend: BackendArgs,
 }
 
 /// `dynray animate` (docs/animate.md).
@@ -226,7 +248,15 @@ fn parse_shard(s: &str) -> Result<(u32, u32), String> {
 #[derive(Args, Debug)]
 pub struct InfoArgs {
     /// Scene or mesh file.
-    pub file: PathBuf,
+    #[arg(required_unless_present = "gpu")]
+    pub file: Option<PathBuf>,
+    /// List the GPU adapters (name, driver, the features and limits the kernels use) and
+    /// check the chosen one against the CPU; exits 1 when there is none.
+    #[arg(long)]
+    pub gpu: bool,
+    /// GPU adapter to check with --gpu (default: $DYNRAY_GPU_ADAPTER, else the most capable).
+    #[arg(long, value_name = "NAME", requires = "gpu")]
+    pub gpu_adapter: Option<String>,
     /// Structure to build and describe: `NAME[:key=value,…]` or `NAME:PRESET`.
     #[arg(long, default_value = "bvh", value_parser = parse_accel)]
     pub accel: AccelSpec,

@@ -386,3 +386,49 @@ fn fields_add_normals_and_points_of_the_hits() {
     let o = dynray(&[&args[..], &["--fields", "t", "--occluded"]].concat());
     assert_eq!(o.status.code(), Some(2), "--fields with --occluded: {}", stderr(&o));
 }
+
+/// `--backend gpu` writes the same archive as the CPU, bit for bit (where the adapter has
+/// 64-bit floats and passes its self-check; docs/gpu.md), refuses structures other than
+/// bvh, and `info --gpu` reports the self-check. Skips without an adapter unless
+/// `DYNRAY_REQUIRE_GPU=1` (CI).
+#[test]
+fn trace_rays_on_the_gpu_writes_the_cpus_hits() {
+    let info = dynray(&["info", "--gpu"]);
+    if !info.status.success() {
+        assert!(stderr(&info).contains("mesa-vulkan-drivers"), "{}", stderr(&info));
+        assert!(std::env::var("DYNRAY_REQUIRE_GPU").map_or(true, |v| v != "1"), "no GPU: {}", stderr(&info));
+        eprintln!("skipping: {}", stderr(&info));
+        return;
+    }
+    let out = String::from_utf8_lossy(&info.stdout).to_string();
+    assert!(out.contains("self-check"), "{out}");
+    let dir = tempfile::tempdir().unwrap();
+    let rays = dir.path().join("rays.npy");
+    write_npy(&rays, &bunny_rays());
+    let r = rays.to_str().unwrap();
+    let (cpu, gpu) = (dir.path().join("cpu.npz"), dir.path().join("gpu.npz"));
+    ok(dynray(&["trace-rays", &bunny(), "--rays", r, "-o", cpu.to_str().unwrap()]));
+    ok(dynray(&["trace-rays", &bunny(), "--rays", r, "-o", gpu.to_str().unwrap(), "--backend", "gpu"]));
+    if out.contains("f64 kernels") && out.contains("every hit equals") {
+        for f in ["t", "u", "v"] {
+            let (a, b): (Vec<f32>, Vec<f32>) = (read_npz(&cpu, f), read_npz(&gpu, f));
+            assert!(a.iter().zip(&b).all(|(x, y)| x.to_bits() == y.to_bits()), "{f} differs");
+        }
+        assert_eq!(read_npz::<i64>(&cpu, "prim"), read_npz::<i64>(&gpu, "prim"));
+    }
+    fails_with(
+        dynray(&[
+            "trace-rays",
+            &bunny(),
+            "--rays",
+            r,
+            "-o",
+            gpu.to_str().unwrap(),
+            "--backend",
+            "gpu",
+            "--accel",
+            "bih",
+        ]),
+        "traces `bvh` only",
+    );
+}

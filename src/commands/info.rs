@@ -13,18 +13,29 @@ use std::time::Instant;
 pub fn run(a: InfoArgs) -> Result<()> {
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
+    if a.gpu {
+        super::gpu_info::write(&mut out, a.gpu_adapter.as_deref())?;
+    }
+    let Some(file) = &a.file else { return Ok(()) };
+    if a.gpu {
+        writeln!(out)?;
+    }
+    file_info(&mut out, file, &a)
+}
+
+fn file_info(out: &mut impl Write, file: &std::path::Path, a: &InfoArgs) -> Result<()> {
     // Loaded unshaded, then shaded as `render` does, so the file's own counts are shown
     // and the two steps are timed apart.
     let t0 = Instant::now();
-    let mut scene = super::load_unshaded(&a.file)?;
+    let mut scene = super::load_unshaded(file)?;
     let load_ms = t0.elapsed().as_secs_f64() * 1e3;
     let frame = scene.frame(scene.animation.timeline.time_of(0));
     let t1 = Instant::now();
-    super::apply_shading(&mut scene, &a.file)?;
+    super::apply_shading(&mut scene, file)?;
     let shading_ms = t1.elapsed().as_secs_f64() * 1e3;
     let mesh = &frame.mesh;
     let b = mesh.bounds();
-    writeln!(out, "file        {}", a.file.display())?;
+    writeln!(out, "file        {}", file.display())?;
     writeln!(out, "load        {load_ms:.1} ms")?;
     writeln!(out, "actors      {}", thousands(scene.actors.len()))?;
     writeln!(out, "vertices    {}", thousands(mesh.vertex_count()))?;
@@ -48,7 +59,7 @@ pub fn run(a: InfoArgs) -> Result<()> {
     // Show the file's figures before a long build.
     out.flush()?;
     let t0 = Instant::now();
-    let accel = a.accel.build(mesh, None).with_context(|| format!("{}: cannot build {}", a.file.display(), a.accel))?;
+    let accel = a.accel.build(mesh, None).with_context(|| format!("{}: cannot build {}", file.display(), a.accel))?;
     let build_ms = t0.elapsed().as_secs_f64() * 1e3;
     let s = accel.stats();
     writeln!(out)?;

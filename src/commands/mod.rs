@@ -2,6 +2,7 @@
 
 mod animate;
 mod bench;
+mod gpu_info;
 mod info;
 mod preview;
 mod render;

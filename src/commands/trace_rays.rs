@@ -9,7 +9,8 @@ pub fn run(a: TraceRaysArgs) -> Result<()> {
     let query = if a.occluded { Query::Occluded } else { Query::Closest(a.fields) };
     let label = a.mesh.display().to_string();
     let pose = |scene: &mut dynray_scene::Scene| super::time::apply(scene, &label, &a.when);
-    let job = Job { mesh: &a.mesh, rays: &a.rays, output: &a.output, accel: &a.accel, query, pose: Some(&pose) };
+    let gpu = a.backend.gpu_options();
+    let job = Job { mesh: &a.mesh, rays: &a.rays, output: &a.output, accel: &a.accel, query, pose: Some(&pose), gpu };
     let summary = trace_rays::run(&job, &mut |notice| match notice {
         Notice::Note(m) => eprintln!("dynray: note: {m}"),
         Notice::Warning(w) => eprintln!("dynray: warning: {w}"),

@@ -86,8 +86,10 @@ impl AccelSpec {
         std::iter::once(PRESET_KEY).chain(own.iter().copied()).collect()
     }
 
-    /// The params struct of this spec's kind, read from its pairs and validated.
-    fn read<P: StructureParams>(&self) -> Result<P, BuildError> {
+    /// The params struct of this spec's kind (`BvhParams` for `bvh`, …), read from its
+    /// pairs and validated: what a caller that needs the concrete structure (the GPU
+    /// backend uploads a [`Bvh`]) builds with.
+    pub fn read<P: StructureParams>(&self) -> Result<P, BuildError> {
         P::from_pairs(&self.params).map_err(|e| e.in_structure(self.kind.name()))
     }
 

@@ -89,6 +89,10 @@ pub struct Job<'a> {
     /// time; `None` is frame 0 of the file's timeline. The CLI's `--time`, `--frame`,
     /// `--clip` and `--fps` come through here.
     pub pose: Option<&'a Pose<'a>>,
+    /// Trace on the GPU (docs/gpu.md) with the adapter these options choose; `None` traces
+    /// on the CPU. The GPU traces a `bvh` (built on the CPU with the spec's parameters,
+    /// then uploaded: `build` in the summary includes the upload).
+    pub gpu: Option<dynray_gpu::GpuOptions>,
 }
 
 /// Chooses the instant of an animated scene (its clip, frame rate, time) and returns the
@@ -154,28 +158,61 @@ pub fn run(job: &Job<'_>, notices: &mut dyn FnMut(Notice)) -> Result<Summary> {
     let mesh = load_posed(job.mesh, job.pose, notices)?;
     let read = t_read.elapsed();
     let t0 = Instant::now();
-    let accel =
-        job.accel.build(&mesh, None).with_context(|| format!("{}: cannot build {}", job.mesh.display(), job.accel))?;
-    let build = t0.elapsed();
+    let cannot_build = || format!("{}: cannot build {}", job.mesh.display(), job.accel);
+    let (hits, trace, write, name) = match &job.gpu {
+        None => {
+            let cpu = job.accel.build(&mesh, None).with_context(cannot_build)?;
+            let build = t0.elapsed();
+            let (h, t, w) = trace_and_write(job, &*cpu, &rays, &mesh)?;
+            (h, t, w, (cpu.name(), build))
+        }
+        Some(options) => {
+            let gpu = gpu_bvh(job, &mesh, options).with_context(cannot_build)?;
+            let build = t0.elapsed();
+            let (h, t, w) = trace_and_write(job, &gpu, &rays, &mesh)?;
+            (h, t, w, ("bvh (gpu)", build))
+        }
+    };
+    let (name, build) = name;
+    let occluded = job.query == Query::Occluded;
+    Ok(Summary { rays: rays.len(), hits, occluded, accel: name, read, build, trace, write })
+}
+
+/// Traces `rays` through `accel` and writes the archive: (answers counted, trace time,
+/// write time).
+fn trace_and_write<Q: BatchQuery + ?Sized>(
+    job: &Job<'_>,
+    accel: &Q,
+    rays: &[Ray],
+    mesh: &TriangleMesh,
+) -> Result<(usize, Duration, Duration)> {
     let t1 = Instant::now();
-    let (hits, trace, write) = match &job.query {
+    Ok(match &job.query {
         Query::Occluded => {
-            let occ = accel.occluded_batch(&rays);
+            let occ = accel.occluded_batch(rays);
             let trace = t1.elapsed();
             let t2 = Instant::now();
             write_npz(job.output, |npz| write_array(npz, "occluded", &occ))?;
             (occ.iter().filter(|&&o| o).count(), trace, t2.elapsed())
         }
         Query::Closest(fields) => {
-            let hits = accel.intersect_batch(&rays);
+            let hits = accel.intersect_batch(rays);
             let trace = t1.elapsed();
             let t2 = Instant::now();
-            write_npz(job.output, |npz| fields.iter().try_for_each(|&f| write_field(npz, f, &hits, &mesh)))?;
+            write_npz(job.output, |npz| fields.iter().try_for_each(|&f| write_field(npz, f, &hits, mesh)))?;
             (hits.iter().filter(|h| h.is_hit()).count(), trace, t2.elapsed())
         }
-    };
-    let occluded = job.query == Query::Occluded;
-    Ok(Summary { rays: rays.len(), hits, occluded, accel: accel.name(), read, build, trace, write })
+    })
+}
+
+/// The job's `bvh` built on the CPU and uploaded to the adapter `options` choose.
+fn gpu_bvh(job: &Job<'_>, mesh: &TriangleMesh, options: &dynray_gpu::GpuOptions) -> Result<dynray_gpu::GpuBvh> {
+    if job.accel.kind != dynray_accel::AccelKind::Bvh {
+        bail!("the GPU backend traces `bvh` only (got `{}`); use --accel bvh or --backend cpu", job.accel.kind.name());
+    }
+    let bvh = dynray_accel::Bvh::build(mesh, &job.accel.read()?)?;
+    let ctx = std::sync::Arc::new(dynray_gpu::GpuContext::new(options)?);
+    Ok(dynray_gpu::GpuBvh::upload(ctx, &bvh)?)
 }
 
 /// Any file dynray reads as one triangle mesh with the file's own vertices (what

@@ -11,6 +11,7 @@
 //! start-up that the device rounds as the CPU does; hits then equal brute force's bit for
 //! bit. Without f64 the kernels run the same test in f32 ([`Precision::F32`]).
 
+mod backend;
 mod buffer;
 mod bvh;
 mod device;
@@ -18,6 +19,7 @@ mod error;
 mod kernel;
 mod shader;
 
+pub use backend::Backend;
 pub use bvh::GpuBvh;
 pub use device::{list_adapters, AdapterSummary, Exactness, GpuContext, GpuOptions, Precision};
 pub use error::{GpuError, SOFTWARE_DRIVER_HINT};
