@@ -84,8 +84,8 @@ fn compare(xml: &Path, max_depth: Option<u32>, reference: &Reference, spp: u32) 
     let ch = |c: Color, k: usize| c.to_array()[k] as f64;
     let mut mean = [0.0f64; 3];
     for (x, y) in pa.iter().zip(&pb) {
-        for k in 0..3 {
-            mean[k] += 0.5 * (ch(*x, k) + ch(*y, k));
+        for (k, m) in mean.iter_mut().enumerate() {
+            *m += 0.5 * (ch(*x, k) + ch(*y, k));
         }
     }
     let mean = mean.map(|m| m / (w * h) as f64);

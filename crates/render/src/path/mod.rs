@@ -26,6 +26,10 @@
 //! Every random number comes from the pixel sample's [`Sampler`], so images do not
 //! depend on threads or tiles.
 
+// `!(x > 0.0)` is deliberate here and in the submodules: it is true for NaN, which must
+// take the rejecting branch (hostile files, degenerate geometry).
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 mod bsdf;
 mod fresnel;
 mod lights;

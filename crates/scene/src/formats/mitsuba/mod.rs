@@ -30,6 +30,10 @@
 //! - A `constant` emitter's radiance is the [`crate::Environment::background`]; without
 //!   one it is black. There is no ambient light.
 
+// `!(x > 0.0)` is deliberate here and in the submodules: it is true for NaN, which must
+// take the rejecting branch (hostile files, degenerate geometry).
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 mod bsdf;
 mod props;
 mod sensor;
@@ -200,11 +204,13 @@ impl<'a> Builder<'a> {
             Some(b) => self.material_of(b)?,
             None => {
                 // Mitsuba's default: a diffuse BSDF of reflectance 0.5.
-                let mut m = Material::default();
-                m.name = "default diffuse".into();
-                m.diffuse = Color::splat(0.5);
-                m.ambient = Color::ZERO;
-                m.bsdf = Some(crate::Bsdf::diffuse(Color::splat(0.5)));
+                let m = Material {
+                    name: "default diffuse".into(),
+                    diffuse: Color::splat(0.5),
+                    ambient: Color::ZERO,
+                    bsdf: Some(crate::Bsdf::diffuse(Color::splat(0.5))),
+                    ..Material::default()
+                };
                 self.scene.materials.push(m);
                 self.scene.materials.len() as u32 - 1
             }
