@@ -23,7 +23,8 @@ pub struct Cli {
 /// Subcommands.
 #[derive(Subcommand, Debug)]
 pub enum Command {
-    /// Render a scene (.scn) or a mesh file (.obj, .ply, .ply.gz, .gltf, .glb, .npz) to an image.
+    /// Render a scene (.scn, Mitsuba .xml) or a mesh file (.obj, .ply, .ply.gz, .gltf, .glb,
+    /// .npz) to an image.
     Render(RenderArgs),
     /// Trace a batch of rays from a .npy file and write the hits to a .npz file.
     TraceRays(TraceRaysArgs),
@@ -87,8 +88,10 @@ pub struct RenderArgs {
     /// Image height in pixels (overrides the scene's settings).
     #[arg(long, value_parser = edge_parser())]
     pub height: Option<u32>,
-    /// Maximum ray level, 1 = primary rays only (overrides `max_recursion_level`).
-    #[arg(long)]
+    /// Whitted: maximum ray level, 1 = primary rays only (overrides
+    /// `max_recursion_level`). Path: longest path in segments as Mitsuba counts them,
+    /// 2 = direct light only (overrides the file's `max_depth`).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     pub max_depth: Option<u32>,
     /// Secondary rays at or below this weight are not traced (overrides `min_weight`).
     #[arg(long)]
@@ -102,9 +105,10 @@ pub struct RenderArgs {
         .map(|s| s.parse::<IntegratorKind>().expect("listed names parse")))]
     pub integrator: IntegratorKind,
     /// Samples per pixel, stratified over the pixel and averaged (anti-aliasing); 1 traces
-    /// one ray through each pixel centre, as the seeds' measurements do.
-    #[arg(long, default_value_t = DEFAULT_SPP, value_parser = clap::value_parser!(u32).range(1..=MAX_SPP as i64))]
-    pub spp: u32,
+    /// one ray through each pixel centre, as the seeds' measurements do. Default: the
+    /// file's (a Mitsuba sampler's `sample_count`), else 9.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=MAX_SPP as i64))]
+    pub spp: Option<u32>,
     /// Seed of the sample positions and of every random choice an integrator makes.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,

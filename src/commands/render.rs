@@ -3,7 +3,7 @@
 use super::thousands;
 use crate::cli::RenderArgs;
 use anyhow::{bail, Context, Result};
-use dynray_render::{render, render_aov, write_aov, write_image, OutputFormat, RenderOptions};
+use dynray_render::{render, render_aov, write_aov, write_image, IntegratorKind, OutputFormat, RenderOptions};
 use dynray_scene::Shading;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::path::Path;
@@ -39,8 +39,11 @@ pub fn run(a: RenderArgs) -> Result<()> {
         s.height = h;
     }
     if let Some(d) = a.max_depth {
-        s.max_recursion_level = d;
+        // The path tracer counts segments (Mitsuba's max_depth), Whitted ray levels: the
+        // same light paths are level D - 1 (dynray_render::PathTracer's docs).
+        s.max_recursion_level = if a.integrator == IntegratorKind::Path { d - 1 } else { d };
     }
+    let spp = a.spp.or(s.spp).unwrap_or(crate::cli::DEFAULT_SPP).min(crate::cli::MAX_SPP);
     if let Some(m) = a.min_weight {
         if !m.is_finite() {
             bail!("--min-weight must be a finite number, got {m}");
@@ -73,13 +76,8 @@ pub fn run(a: RenderArgs) -> Result<()> {
         bar.set_length(total as u64);
         bar.set_position(done as u64);
     };
-    let options = RenderOptions {
-        progress: Some(&progress),
-        spp: a.spp,
-        seed: a.seed,
-        integrator: a.integrator,
-        ..Default::default()
-    };
+    let options =
+        RenderOptions { progress: Some(&progress), spp, seed: a.seed, integrator: a.integrator, ..Default::default() };
     let t1 = Instant::now();
     if let Some(aov) = a.aov {
         let film = render_aov(&frame, accel.as_ref(), aov, &options);

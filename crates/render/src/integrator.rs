@@ -5,7 +5,7 @@
 //! arrives along this ray", drawing any random numbers it needs from the sample's
 //! [`Sampler`] so that its answer depends on nothing but the pixel and the sample index.
 
-use crate::{Sampler, SceneIntersector, Whitted};
+use crate::{PathTracer, Sampler, SceneIntersector, Whitted};
 use dynray_geom::Ray;
 use dynray_scene::{Color, Frame};
 
@@ -35,19 +35,23 @@ pub enum IntegratorKind {
     /// [`Whitted`]: seed 003's recursive ray tracer (Phong, shadows, mirrors, glass).
     #[default]
     Whitted,
+    /// [`PathTracer`]: unidirectional path tracing with next-event estimation and MIS,
+    /// converging to Mitsuba 3's `path` integrator.
+    Path,
 }
 
 impl IntegratorKind {
     /// All kinds, in the order listings show them.
-    pub const ALL: &'static [IntegratorKind] = &[IntegratorKind::Whitted];
+    pub const ALL: &'static [IntegratorKind] = &[IntegratorKind::Whitted, IntegratorKind::Path];
 
     /// The names of [`Self::ALL`], for command-line value lists.
-    pub const NAMES: &'static [&'static str] = &["whitted"];
+    pub const NAMES: &'static [&'static str] = &["whitted", "path"];
 
     /// The `--integrator` spelling.
     pub fn name(self) -> &'static str {
         match self {
             IntegratorKind::Whitted => "whitted",
+            IntegratorKind::Path => "path",
         }
     }
 
@@ -56,6 +60,7 @@ impl IntegratorKind {
     pub fn create<'a>(self, frame: &'a Frame, scene: &'a SceneIntersector<'a>) -> Box<dyn Integrator + 'a> {
         match self {
             IntegratorKind::Whitted => Box::new(Whitted::new(frame, scene)),
+            IntegratorKind::Path => Box::new(PathTracer::new(frame, scene)),
         }
     }
 }

@@ -1,5 +1,5 @@
 //! Rendering of dynray: cameras, samplers, the integrators (seed 003's Whitted tracer
-//! today) behind one [`Integrator`] trait, the scene-level intersector that answers with
+//! and a physically based path tracer) behind one [`Integrator`] trait, the scene-level intersector that answers with
 //! surface hits, the accumulating film, AOVs and image output.
 //!
 //! The data path is `Frame` + an acceleration structure -> [`SceneIntersector`] (surface
@@ -17,6 +17,7 @@ mod film;
 mod integrator;
 mod intersector;
 mod output;
+mod path;
 mod render;
 mod sampler;
 mod shadow;
@@ -31,6 +32,7 @@ pub use film::{linear_to_srgb8, Film};
 pub use integrator::{Integrator, IntegratorKind, RayCounts};
 pub use intersector::{Geometry, SceneIntersector, TriangleGeometry};
 pub use output::{write_aov, write_image, OutputFormat};
+pub use path::{PathTracer, Strategy as PathStrategy, MAX_PATH_DEPTH, RR_DEPTH};
 pub use render::{render, render_aov, render_with, RenderOptions, RenderStats};
 pub use sampler::Sampler;
 pub use shadow::{filter as shadow_filter, Shadows, MAX_SHADOW_CROSSINGS};

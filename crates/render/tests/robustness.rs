@@ -25,6 +25,8 @@ fn nan_materials_lights_and_settings_give_no_nan_pixels() {
         transparency: Color::splat(0.5),
         ior: f32::NAN,
         diffuse_texture: None,
+        emission: Color::ZERO,
+        bsdf: None,
     };
     let mut f = frame(
         vec![

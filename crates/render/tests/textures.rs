@@ -39,7 +39,7 @@ fn textured_scene(material: Material, uvs: bool, lights: Vec<dynray_scene::Light
         lights,
         camera: Some(parallel(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, 2.0)),
         environment: env(Color::ZERO, ambient),
-        settings: Settings { width: 6, height: 6, max_recursion_level: 1, min_weight: 0.01 },
+        settings: Settings { width: 6, height: 6, max_recursion_level: 1, min_weight: 0.01, spp: None },
         ..Default::default()
     };
     s.actors.push(Actor::new(None, quad(uvs), 0));

@@ -35,6 +35,8 @@ pub fn demo_scene_with(sphere_detail: u32) -> Scene {
         transparency: Color::ZERO,
         ior: 1.0,
         diffuse_texture: None,
+        emission: Color::ZERO,
+        bsdf: None,
     };
     let cream = material(matte("cream", Color::new(0.85, 0.82, 0.72), 1.0));
     let terracotta =
@@ -102,7 +104,7 @@ pub fn demo_scene_with(sphere_detail: u32) -> Scene {
         up: Vec3::Y,
         projection: Projection::Perspective { fov_y_deg: 42.0 },
     });
-    s.settings = Settings { width: 800, height: 600, max_recursion_level: 6, min_weight: 0.01 };
+    s.settings = Settings { width: 800, height: 600, max_recursion_level: 6, min_weight: 0.01, spp: None };
     s.environment = Environment { background: Color::new(0.32, 0.48, 0.72), ambient: Color::splat(0.12), ior: 1.0 };
     s
 }

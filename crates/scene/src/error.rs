@@ -15,7 +15,7 @@ pub enum LoadError {
         source: std::io::Error,
     },
     /// The extension names no format dynray reads.
-    #[error("{}: unknown file type (expected .obj, .ply, .ply.gz, .gltf, .glb, .npz, .aff, .nff or .scn)", path.display())]
+    #[error("{}: unknown file type (expected .obj, .ply, .ply.gz, .gltf, .glb, .npz, .aff, .nff, .scn or Mitsuba's .xml)", path.display())]
     UnknownFormat {
         /// The file.
         path: PathBuf,

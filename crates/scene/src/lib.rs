@@ -5,6 +5,7 @@
 
 mod actor;
 pub mod animation;
+mod bsdf;
 mod default_view;
 pub mod demo;
 mod error;
@@ -21,6 +22,7 @@ mod transform;
 
 pub use actor::{Actor, Motion};
 pub use animation::{Animation, Timeline};
+pub use bsdf::{Bsdf, BsdfKind, Microfacet, Roughness};
 pub use error::LoadError;
 pub use frame::Frame;
 pub use load::{load_file, load_file_report, load_file_unshaded, load_mesh, FileFormat};

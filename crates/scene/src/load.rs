@@ -48,6 +48,8 @@ pub enum FileFormat {
     Scn,
     /// BART's AFF (NFF with animation), `.aff`, or plain NFF, `.nff`.
     Aff,
+    /// A Mitsuba 3 scene, `.xml`.
+    Mitsuba,
 }
 
 impl FileFormat {
@@ -67,6 +69,8 @@ impl FileFormat {
             Some(FileFormat::Scn)
         } else if ends(".aff") || ends(".nff") {
             Some(FileFormat::Aff)
+        } else if ends(".xml") {
+            Some(FileFormat::Mitsuba)
         } else {
             None
         }
@@ -103,7 +107,14 @@ pub fn load_file_report(path: &Path) -> Result<LoadReport, LoadError> {
 pub fn load_file_unshaded(path: &Path) -> Result<LoadReport, LoadError> {
     let mut report = load_own(path)?;
     let scene = &mut report.scene;
-    if FileFormat::of(path) == Some(FileFormat::Scn) {
+    let format = FileFormat::of(path);
+    if format == Some(FileFormat::Mitsuba) {
+        // A scene file taken as written: its emitters are its lights.
+        let emissive = scene.materials.iter().any(|m| m.emission.max_element() > 0.0);
+        if scene.lights.is_empty() && !emissive && scene.environment.background == crate::Color::ZERO {
+            report.warnings.push(Warning::new(path, None, "the scene has no emitters: it renders black"));
+        }
+    } else if format == Some(FileFormat::Scn) {
         if scene.lights.is_empty() && !scene.actors.is_empty() {
             let a = scene.environment.ambient;
             report.warnings.push(Warning::new(
@@ -145,6 +156,7 @@ pub(crate) fn load_own(path: &Path) -> Result<LoadReport, LoadError> {
         FileFormat::Gltf => crate::formats::gltf::load(path),
         FileFormat::Scn => crate::scn::load_scn_unshaded(path),
         FileFormat::Aff => crate::formats::aff::load(path),
+        FileFormat::Mitsuba => crate::formats::mitsuba::load(path),
     }
 }
 
@@ -166,5 +178,6 @@ mod tests {
         assert_eq!(FileFormat::of(Path::new("kitchen.aff")), Some(FileFormat::Aff));
         assert_eq!(FileFormat::of(Path::new("balls.NFF")), Some(FileFormat::Aff));
         assert_eq!(FileFormat::of(Path::new("")), None);
+        assert_eq!(FileFormat::of(Path::new("cbox.XML")), Some(FileFormat::Mitsuba));
     }
 }

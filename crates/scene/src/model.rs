@@ -2,7 +2,7 @@
 //! render settings and environment. [`Scene::frame_into`] flattens it into a
 //! [`crate::Frame`] (`frame.rs`); actors are in `actor.rs`.
 
-use crate::{Actor, Texture, TextureRef};
+use crate::{Actor, Bsdf, Texture, TextureRef};
 use dynray_geom::{Aabb, TriangleMesh, Vec3};
 use std::sync::Arc;
 
@@ -33,6 +33,14 @@ pub struct Material {
     /// `baseColorTexture`, MTL `map_Kd`, `.scn` `texture`); see
     /// [`Material::diffuse_texel`].
     pub diffuse_texture: Option<TextureRef>,
+    /// Radiance the surface emits (W·m⁻²·sr⁻¹ per channel), from the side its geometric
+    /// normal points to (the front of a counter-clockwise triangle) only, as Mitsuba's
+    /// `area` emitter does. The path tracer samples emissive triangles as area lights;
+    /// the Whitted integrator ignores it (it lights with [`Light`]s only).
+    pub emission: Color,
+    /// A physically based BSDF for the path tracer (`bsdf.rs`); `None` derives one from
+    /// the Phong coefficients above (docs/rendering.md, "Path tracer").
+    pub bsdf: Option<Bsdf>,
 }
 
 impl Material {
@@ -48,6 +56,8 @@ impl Material {
             transparency: Color::ONE * f.transparency,
             ior: f.ior,
             diffuse_texture: None,
+            emission: Color::ZERO,
+            bsdf: None,
         }
     }
 }
@@ -217,11 +227,14 @@ pub struct Settings {
     pub max_recursion_level: u32,
     /// Secondary rays whose weight falls to this or below are not traced.
     pub min_weight: f32,
+    /// Samples per pixel the file asks for (Mitsuba's `sample_count`); `None` leaves it
+    /// to the renderer's default. `render --spp` overrides it.
+    pub spp: Option<u32>,
 }
 
 impl Default for Settings {
     fn default() -> Self {
-        Self { width: 640, height: 480, max_recursion_level: 10, min_weight: 0.01 }
+        Self { width: 640, height: 480, max_recursion_level: 10, min_weight: 0.01, spp: None }
     }
 }
 

@@ -18,6 +18,8 @@ pub fn black() -> Material {
         transparency: Color::ZERO,
         ior: 1.0,
         diffuse_texture: None,
+        emission: Color::ZERO,
+        bsdf: None,
     }
 }
 
@@ -30,7 +32,7 @@ pub fn frame(
     environment: Environment,
 ) -> Frame {
     let mut s = Scene { lights, camera: Some(camera), environment, ..Default::default() };
-    s.settings = Settings { width, height, max_recursion_level: 10, min_weight: 0.001 };
+    s.settings = Settings { width, height, max_recursion_level: 10, min_weight: 0.001, spp: None };
     for (mesh, m) in actors {
         s.materials.push(m);
         s.actors.push(Actor::new(None, mesh, s.materials.len() as u32 - 1));

@@ -10,6 +10,7 @@
 
 pub mod aff;
 pub mod gltf;
+pub mod mitsuba;
 pub(crate) mod mtl;
 pub mod npz;
 pub mod obj;

@@ -86,6 +86,8 @@ impl MtlMaterial {
             transparency: Color::splat((1.0 - opacity).clamp(0.0, 1.0)),
             ior: self.ni.unwrap_or(1.0),
             diffuse_texture: None,
+            emission: Color::ZERO,
+            bsdf: None,
         }
     }
 }

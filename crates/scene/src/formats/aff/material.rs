@@ -54,6 +54,8 @@ impl Materials {
             transparency: Color::splat(tr),
             ior: if ior > 0.0 { ior } else { 1.0 },
             diffuse_texture: None,
+            emission: Color::ZERO,
+            bsdf: None,
         };
         self.push(scene, m);
         Ok(())
@@ -79,6 +81,8 @@ impl Materials {
             // BART writes 0 for "not refractive".
             ior: if ior > 0.0 { ior } else { 1.0 },
             diffuse_texture: None,
+            emission: Color::ZERO,
+            bsdf: None,
         };
         self.push(scene, m);
         Ok(())
