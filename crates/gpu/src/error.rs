@@ -43,6 +43,12 @@ pub enum GpuError {
         /// Adapter name.
         adapter: String,
     },
+    /// The frame or options ask for something the GPU strategies do not do.
+    #[error("the GPU backend does not render {what}")]
+    Unsupported {
+        /// What, in words.
+        what: String,
+    },
     /// A kernel failed to compile or validate, or the device was lost during a command.
     #[error("GPU {what}: {message}")]
     Device {

@@ -17,9 +17,11 @@ mod bvh;
 mod device;
 mod error;
 mod kernel;
+mod render;
 mod shader;
 
 pub use backend::Backend;
 pub use bvh::GpuBvh;
 pub use device::{list_adapters, AdapterSummary, Exactness, GpuContext, GpuOptions, Precision};
 pub use error::{GpuError, SOFTWARE_DRIVER_HINT};
+pub use render::{GpuRender, GpuRenderOptions, GpuRenderer, GpuStrategy, StageTimings};

@@ -11,6 +11,46 @@ pub(crate) const BVH_TRAVERSE: &str = include_str!("../shaders/bvh_traverse.wgsl
 /// The batch-query entry points.
 pub(crate) const TRACE_RAYS: &str = include_str!("../shaders/trace_rays.wgsl");
 
+/// The frame's bindings (group 0) of the render kernels.
+pub(crate) const RENDER_SCENE: &str = include_str!("../shaders/render_scene.wgsl");
+/// The queues and outputs (group 1) of the render kernels.
+pub(crate) const RENDER_WORK: &str = include_str!("../shaders/render_work.wgsl");
+/// Camera rays, as the CPU's `CameraRays::ray_at`.
+pub(crate) const CAMERA: &str = include_str!("../shaders/camera.wgsl");
+/// The CPU Whitted integrator's shading.
+pub(crate) const WHITTED_SHADE: &str = include_str!("../shaders/whitted_shade.wgsl");
+/// Prefix-sum stream compaction.
+pub(crate) const COMPACT: &str = include_str!("../shaders/compact.wgsl");
+/// The wavefront strategy's kernels.
+pub(crate) const WAVEFRONT: &str = include_str!("../shaders/wavefront.wgsl");
+/// The megakernel strategy.
+pub(crate) const MEGAKERNEL: &str = include_str!("../shaders/megakernel.wgsl");
+/// The hybrid strategy's two kernels (it runs megakernel.wgsl's loop).
+pub(crate) const HYBRID: &str = include_str!("../shaders/hybrid.wgsl");
+
+/// The render kernels' module: every strategy's entry points over one set of bindings,
+/// with `ray_stack` entries of the megakernel's private ray stack.
+pub(crate) fn render_module(precision: Precision, stack: u32, ray_stack: u32) -> String {
+    let mut s = assemble(
+        precision,
+        stack,
+        &[
+            WATERTIGHT,
+            BVH_TRAVERSE,
+            RENDER_SCENE,
+            RENDER_WORK,
+            WHITTED_SHADE,
+            CAMERA,
+            COMPACT,
+            WAVEFRONT,
+            MEGAKERNEL,
+            HYBRID,
+        ],
+    );
+    s.insert_str(0, &format!("const RAY_STACK: u32 = {ray_stack}u;\n"));
+    s
+}
+
 /// Traversal stack sizes kernels are compiled for; a tree uses the smallest above its
 /// depth (near-first descent pushes at most one node per level).
 pub(crate) const STACK_SIZES: [u32; 3] = [32, 64, 128];
@@ -71,6 +111,13 @@ mod tests {
                     .validate(&module)
                     .unwrap_or_else(|e| panic!("{p:?}/{s}: {e:?}"));
             }
+        }
+        for p in [Precision::F64, Precision::F32] {
+            let src = render_module(p, 32, 12);
+            let module = naga::front::wgsl::parse_str(&src).unwrap_or_else(|e| panic!("{}", e.emit_to_string(&src)));
+            naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all())
+                .validate(&module)
+                .unwrap_or_else(|e| panic!("render {p:?}: {e:?}"));
         }
         assert_eq!(stack_for(18), Some(32));
         assert_eq!(stack_for(32), Some(64));

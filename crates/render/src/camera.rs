@@ -71,6 +71,42 @@ impl CameraRays {
     pub fn forward(&self) -> Vec3 {
         self.forward
     }
+
+    /// The resolved vectors [`CameraRays::ray_at`] combines: what a port of it (the GPU
+    /// backend's ray generation) needs to give the same rays.
+    pub fn basis(&self) -> CameraBasis {
+        CameraBasis {
+            origin: self.origin,
+            forward: self.forward,
+            right: self.right,
+            up: self.up,
+            parallel: self.parallel,
+            width: self.width,
+            height: self.height,
+        }
+    }
+}
+
+/// A [`CameraRays`]' vectors: the ray through image position `(px, py)` has
+/// `s = (2 px / width − 1, 1 − 2 py / height)`, `offset = right · s.x + up · s.y` and is
+/// `(origin + offset, forward)` for a parallel camera, `(origin, normalize(forward +
+/// offset))` for a perspective one.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CameraBasis {
+    /// Eye position.
+    pub origin: Vec3,
+    /// Unit view direction.
+    pub forward: Vec3,
+    /// Right vector scaled by the window's half width.
+    pub right: Vec3,
+    /// Up vector scaled by the window's half height.
+    pub up: Vec3,
+    /// Parallel (true) or perspective projection.
+    pub parallel: bool,
+    /// Image width in pixels (at least 1).
+    pub width: f32,
+    /// Image height in pixels (at least 1).
+    pub height: f32,
 }
 
 /// Unit right vector of a camera looking along unit `forward` with approximate `up`;

@@ -25,7 +25,7 @@ mod surface;
 mod whitted;
 
 pub use aov::{Aov, AovIntegrator};
-pub use camera::CameraRays;
+pub use camera::{CameraBasis, CameraRays};
 pub use error::RenderError;
 pub use facing::{Facing, MIN_EXIT_COS};
 pub use film::{linear_to_srgb8, Film};

@@ -70,6 +70,8 @@ pub struct GpuBvh {
     ids: wgpu::Buffer,
     triangles: usize,
     node_count: usize,
+    /// Traversal stack entries its kernels are compiled for.
+    stack: u32,
     pipelines: Arc<TracePipelines>,
 }
 
@@ -95,6 +97,7 @@ impl GpuBvh {
             ids: buffer::storage(&ctx, "BVH triangle ids", bvh.triangle_ids(), none)?,
             triangles: bvh.triangles().len(),
             node_count: bvh.nodes().len(),
+            stack,
             pipelines,
             ctx,
         })
@@ -112,6 +115,17 @@ impl GpuBvh {
         }
         *self = Self::upload(self.ctx.clone(), bvh)?;
         Ok(())
+    }
+
+    /// The node, triangle and triangle-id buffers, for kernels that traverse it (the
+    /// render strategies bind them beside the frame's other arrays).
+    pub(crate) fn buffers(&self) -> [&wgpu::Buffer; 3] {
+        [&self.nodes, &self.tris, &self.ids]
+    }
+
+    /// The traversal stack size its kernels need.
+    pub(crate) fn stack(&self) -> u32 {
+        self.stack
     }
 
     /// The device it lives on.

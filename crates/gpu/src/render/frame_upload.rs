@@ -1,0 +1,329 @@
+//! The frame on the device (group 0 of the render kernels): the BVH through [`GpuBvh`],
+//! the mesh arrays shading reads, materials, lights, camera and settings as Pod mirrors
+//! of shaders/render_scene.wgsl, and the CPU sampler's sub-pixel positions. Between
+//! frames each array is compared with what was uploaded last and only changed ones are
+//! written (a plain byte comparison: cheap next to tracing, and exact).
+
+use super::work::Kernels;
+use crate::{buffer, GpuBvh, GpuContext, GpuError};
+use bytemuck::{Pod, Zeroable};
+use dynray_accel::Bvh;
+use dynray_render::{shadow_filter, CameraRays, Sampler, MAX_LEVEL_CAP};
+use dynray_scene::{Frame, LightKind, Material};
+use std::sync::Arc;
+
+/// `Material` of render_scene.wgsl: 96 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+struct GpuMaterial {
+    ambient: [f32; 3],
+    shine: f32,
+    diffuse: [f32; 3],
+    /// The usable ior (positive, finite, else 1), as whitted.rs' `sane_ior`.
+    ior: f32,
+    spot: [f32; 3],
+    has_spot: u32,
+    specular: [f32; 3],
+    _pad0: u32,
+    transparency: [f32; 3],
+    _pad1: u32,
+    shadow_filter: [f32; 3],
+    _pad2: u32,
+}
+const _: () = assert!(std::mem::size_of::<GpuMaterial>() == 96);
+
+/// `Light` of render_scene.wgsl: 64 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+struct GpuLight {
+    position: [f32; 3],
+    kind: u32,
+    direction: [f32; 3],
+    falloff: i32,
+    color: [f32; 3],
+    cos_inner: f32,
+    cos_outer: f32,
+    _pad: [u32; 3],
+}
+const _: () = assert!(std::mem::size_of::<GpuLight>() == 64);
+
+/// `SceneParams` of render_scene.wgsl: 128 bytes (a vec3 and a scalar per 16-byte row).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
+pub(crate) struct SceneParams {
+    cam_origin: [f32; 3],
+    cam_parallel: u32,
+    cam_forward: [f32; 3],
+    cam_width: f32,
+    cam_right: [f32; 3],
+    cam_height: f32,
+    cam_up: [f32; 3],
+    spp: u32,
+    background: [f32; 3],
+    env_ior: f32,
+    ambient: [f32; 3],
+    eps_base: f32,
+    width: u32,
+    height: u32,
+    pub max_level: u32,
+    min_weight: f32,
+    light_count: u32,
+    any_transparent: u32,
+    has_normals: u32,
+    material_count: u32,
+}
+const _: () = assert!(std::mem::size_of::<SceneParams>() == 128);
+
+fn sane_ior(ior: f32) -> f32 {
+    if ior.is_finite() && ior > 0.0 {
+        ior
+    } else {
+        1.0
+    }
+}
+
+fn material(m: &Material) -> GpuMaterial {
+    GpuMaterial {
+        ambient: m.ambient.to_array(),
+        shine: m.shine,
+        diffuse: m.diffuse.to_array(),
+        ior: sane_ior(m.ior),
+        spot: m.spot.to_array(),
+        has_spot: u32::from(m.spot != dynray_scene::Color::ZERO),
+        specular: m.specular.to_array(),
+        _pad0: 0,
+        transparency: m.transparency.to_array(),
+        _pad1: 0,
+        shadow_filter: shadow_filter(m).to_array(),
+        _pad2: 0,
+    }
+}
+
+fn light(l: &dynray_scene::Light) -> GpuLight {
+    let mut g = GpuLight {
+        position: [0.0; 3],
+        kind: 0,
+        direction: [0.0; 3],
+        falloff: 0,
+        color: l.color.to_array(),
+        cos_inner: 0.0,
+        cos_outer: 0.0,
+        _pad: [0; 3],
+    };
+    match l.kind {
+        LightKind::Point { position, falloff } => {
+            g.position = position.to_array();
+            g.falloff = falloff;
+        }
+        LightKind::Spot { position, direction, cos_inner, cos_outer, falloff } => {
+            g.kind = 1;
+            g.position = position.to_array();
+            g.direction = direction.normalize_or_zero().to_array();
+            g.cos_inner = cos_inner;
+            g.cos_outer = cos_outer;
+            g.falloff = falloff;
+        }
+        LightKind::Directional { direction } => {
+            g.kind = 2;
+            g.direction = (-direction.normalize_or_zero()).to_array();
+        }
+    }
+    g
+}
+
+/// Why a frame cannot be rendered on the GPU.
+pub(crate) fn check_supported(frame: &Frame) -> Result<(), GpuError> {
+    // A texture is only looked up where the mesh has texture coordinates (intersector.rs).
+    if frame.mesh.uvs.is_some() && frame.materials.iter().any(|m| m.diffuse_texture.is_some()) {
+        return Err(GpuError::Unsupported {
+            what: "textured materials (the GPU strategies shade untextured surfaces only; use --backend cpu)".into(),
+        });
+    }
+    Ok(())
+}
+
+/// One array of group 0 with the bytes it holds.
+struct Array {
+    what: &'static str,
+    buffer: wgpu::Buffer,
+    bytes: Vec<u8>,
+}
+
+impl Array {
+    /// Uploads `data` unless it equals what the buffer holds; the bytes written.
+    fn sync<T: Pod>(
+        ctx: &GpuContext,
+        slot: &mut Option<Array>,
+        what: &'static str,
+        data: &[T],
+    ) -> Result<u64, GpuError> {
+        let bytes: &[u8] = bytemuck::cast_slice(data);
+        match slot {
+            Some(a) if a.bytes == bytes => Ok(0),
+            Some(a) if a.bytes.len() == bytes.len() && !bytes.is_empty() => {
+                ctx.queue.write_buffer(&a.buffer, 0, bytes);
+                a.bytes.copy_from_slice(bytes);
+                Ok(bytes.len() as u64)
+            }
+            _ => {
+                let buffer = buffer::storage(ctx, what, data, wgpu::BufferUsages::empty())?;
+                *slot = Some(Array { what, buffer, bytes: bytes.to_vec() });
+                Ok(bytes.len() as u64)
+            }
+        }
+    }
+}
+
+/// What a render needs of a frame, on the device.
+pub(crate) struct FrameUpload {
+    ctx: Arc<GpuContext>,
+    bvh: Option<(GpuBvh, Vec<u8>)>,
+    arrays: [Option<Array>; 7],
+    params: Option<(wgpu::Buffer, SceneParams)>,
+    /// Samples of the uploaded sub-pixel positions.
+    pub samples: u32,
+    pub spp: u32,
+}
+
+impl FrameUpload {
+    pub fn new(ctx: Arc<GpuContext>) -> Self {
+        Self { ctx, bvh: None, arrays: Default::default(), params: None, samples: 0, spp: 1 }
+    }
+
+    /// The BVH uploaded, once [`Self::sync`] ran.
+    pub fn bvh(&self) -> Option<&GpuBvh> {
+        self.bvh.as_ref().map(|(b, _)| b)
+    }
+
+    pub fn params(&self) -> Option<SceneParams> {
+        self.params.as_ref().map(|p| p.1)
+    }
+
+    /// Brings the device's copy up to `frame` (with `bvh` built on its mesh) and sample
+    /// positions for `spp` and `seed`; returns the bytes written.
+    pub fn sync(&mut self, frame: &Frame, bvh: &Bvh, spp: u32, seed: u64) -> Result<u64, GpuError> {
+        let ctx = self.ctx.clone();
+        let mut written = 0;
+        let key: Vec<u8> = [
+            bytemuck::cast_slice::<_, u8>(bvh.nodes()),
+            bytemuck::cast_slice(bvh.triangles()),
+            bytemuck::cast_slice(bvh.triangle_ids()),
+        ]
+        .concat();
+        match &mut self.bvh {
+            Some((_, k)) if *k == key => {}
+            Some((g, k)) => {
+                g.update(bvh)?;
+                written += key.len() as u64;
+                *k = key;
+            }
+            None => {
+                written += key.len() as u64;
+                self.bvh = Some((GpuBvh::upload(ctx.clone(), bvh)?, key));
+            }
+        }
+        let mesh = &frame.mesh;
+        let mut materials: Vec<GpuMaterial> = frame.materials.iter().map(material).collect();
+        // The fallback of intersector.rs for a triangle whose index names no material.
+        materials.push(material(&Material::default()));
+        let lights: Vec<GpuLight> = frame.lights.iter().map(light).collect();
+        let normals: &[[f32; 3]] = mesh.normals.as_deref().unwrap_or(&[]);
+        let [a0, a1, a2, a3, a4, a5, a6] = &mut self.arrays;
+        written += Array::sync(&ctx, a0, "mesh positions", &mesh.positions)?;
+        written += Array::sync(&ctx, a1, "mesh indices", &mesh.indices)?;
+        written += Array::sync(&ctx, a2, "mesh normals", normals)?;
+        written += Array::sync(&ctx, a3, "material ids", &frame.materials_of)?;
+        written += Array::sync(&ctx, a4, "materials", &materials)?;
+        written += Array::sync(&ctx, a5, "lights", &lights)?;
+
+        let (w, h) = (frame.settings.width, frame.settings.height);
+        let spp = spp.max(1);
+        let samples = w as u64 * h as u64 * spp as u64;
+        let samples = u32::try_from(samples).map_err(|_| GpuError::Unsupported {
+            what: format!("{w}x{h} pixels at {spp} samples ({samples} samples; at most 2^32 - 1)"),
+        })?;
+        let mut offsets = Vec::with_capacity(samples as usize);
+        for y in 0..h {
+            for x in 0..w {
+                for s in 0..spp {
+                    let (ox, oy) = Sampler::new(seed, w, x, y, s, spp).pixel_offset();
+                    offsets.push([ox, oy]);
+                }
+            }
+        }
+        written += Array::sync(&ctx, a6, "sample positions", &offsets)?;
+        self.samples = samples;
+        self.spp = spp;
+
+        let cam = CameraRays::new(&frame.camera, w, h).basis();
+        let diag = mesh.bounds().extent().length();
+        let diag = if diag.is_finite() && diag > 0.0 { diag } else { 1.0 };
+        let env = &frame.environment;
+        let params = SceneParams {
+            cam_origin: cam.origin.to_array(),
+            cam_parallel: u32::from(cam.parallel),
+            cam_forward: cam.forward.to_array(),
+            cam_width: cam.width,
+            cam_right: cam.right.to_array(),
+            cam_height: cam.height,
+            cam_up: cam.up.to_array(),
+            spp,
+            background: env.background.to_array(),
+            env_ior: sane_ior(env.ior),
+            ambient: env.ambient.to_array(),
+            eps_base: diag * 1e-5,
+            width: w,
+            height: h,
+            max_level: frame.settings.max_recursion_level.min(MAX_LEVEL_CAP),
+            min_weight: frame.settings.min_weight,
+            light_count: lights.len() as u32,
+            any_transparent: u32::from(frame.materials.iter().any(|m| shadow_filter(m) != dynray_scene::Color::ZERO)),
+            has_normals: u32::from(mesh.normals.is_some()),
+            material_count: materials.len() as u32,
+        };
+        match &mut self.params {
+            Some((_, p)) if *p == params => {}
+            Some((b, p)) => {
+                ctx.queue.write_buffer(b, 0, bytemuck::bytes_of(&params));
+                *p = params;
+                written += 128;
+            }
+            None => {
+                self.params = Some((buffer::uniform(&ctx, "scene params", &params), params));
+                written += 128;
+            }
+        }
+        Ok(written)
+    }
+
+    /// Group 0 for `kernels` (made per render: cheap, and buffers may have been replaced).
+    pub fn group(&self, kernels: &Kernels) -> wgpu::BindGroup {
+        let (bvh, _) = self.bvh.as_ref().expect("sync before group");
+        let [nodes, tris, ids] = bvh.buffers();
+        let arr = |i: usize| &self.arrays[i].as_ref().expect("sync before group").buffer;
+        let params = &self.params.as_ref().expect("sync before group").0;
+        let list: [(u32, &wgpu::Buffer); 11] = [
+            (0, nodes),
+            (1, tris),
+            (2, ids),
+            (3, arr(0)),
+            (4, arr(1)),
+            (5, arr(2)),
+            (6, arr(3)),
+            (7, arr(4)),
+            (8, arr(5)),
+            (9, params),
+            (10, arr(6)),
+        ];
+        let entries: Vec<_> = list
+            .iter()
+            .map(|&(binding, b)| wgpu::BindGroupEntry { binding, resource: b.as_entire_binding() })
+            .collect();
+        debug_assert!(self.arrays.iter().all(|a| a.as_ref().is_some_and(|a| !a.what.is_empty())));
+        self.ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("frame"),
+            layout: &kernels.scene_layout,
+            entries: &entries,
+        })
+    }
+}

@@ -1,0 +1,224 @@
+//! Seed 003's three GPU tracing strategies (§3.10–3.12) over the frame's BVH, shading
+//! exactly as the CPU Whitted integrator (shaders/whitted_shade.wgsl), returning the CPU
+//! renderer's [`Film`]: wavefront, megakernel and hybrid (docs/gpu.md).
+
+mod compact;
+mod frame_upload;
+mod hybrid;
+mod megakernel;
+mod wavefront;
+mod work;
+
+use crate::{buffer, GpuContext, GpuError};
+use dynray_accel::Bvh;
+use dynray_render::{Film, RenderStats};
+use dynray_scene::{Color, Frame};
+use std::collections::HashMap;
+use std::sync::Arc;
+use std::time::Instant;
+use work::{Kernels, Placeholders, Recorder};
+
+/// Samples per batch: keeps every queue under lavapipe's 128 MiB binding limit.
+const BATCH: u32 = 1 << 18;
+
+/// How the GPU traces a frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GpuStrategy {
+    /// Multi-kernel wavefront with prefix-sum compaction per bounce.
+    Wavefront,
+    /// One invocation per pixel sample with a private ray stack.
+    Megakernel,
+    /// Primary rays compacted once, then the megakernel on the survivors.
+    Hybrid,
+}
+
+impl GpuStrategy {
+    /// The names `--gpu-strategy` accepts.
+    pub const NAMES: [&'static str; 3] = ["wavefront", "megakernel", "hybrid"];
+
+    /// Its name.
+    pub fn name(self) -> &'static str {
+        match self {
+            GpuStrategy::Wavefront => "wavefront",
+            GpuStrategy::Megakernel => "megakernel",
+            GpuStrategy::Hybrid => "hybrid",
+        }
+    }
+}
+
+impl std::str::FromStr for GpuStrategy {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "wavefront" => Ok(GpuStrategy::Wavefront),
+            "megakernel" => Ok(GpuStrategy::Megakernel),
+            "hybrid" => Ok(GpuStrategy::Hybrid),
+            _ => Err(format!("unknown GPU strategy `{s}` (wavefront, megakernel, hybrid)")),
+        }
+    }
+}
+
+impl std::fmt::Display for GpuStrategy {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// What to render.
+#[derive(Clone, Copy, Debug)]
+pub struct GpuRenderOptions {
+    /// The strategy.
+    pub strategy: GpuStrategy,
+    /// Samples per pixel (the CPU sampler's positions).
+    pub spp: u32,
+    /// Seed of the sample positions.
+    pub seed: u64,
+}
+
+/// Seconds per stage of one render.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct StageTimings {
+    /// Camera-ray generation.
+    pub generate: f64,
+    /// Closest-hit tracing.
+    pub trace: f64,
+    /// Prefix-sum compaction and gathers.
+    pub compact: f64,
+    /// Shading with shadow rays, accumulation.
+    pub shade: f64,
+    /// The megakernel (trace and shade fused).
+    pub fused: f64,
+    /// Frame upload (host side).
+    pub upload: f64,
+    /// The whole render, wall clock.
+    pub total: f64,
+    /// True when the stages come from timestamp queries, false for wall clock.
+    pub from_timestamps: bool,
+}
+
+/// One GPU render.
+#[derive(Clone, Debug)]
+pub struct GpuRender {
+    /// The image, as the CPU renderer returns it.
+    pub film: Film,
+    /// Rays traced.
+    pub stats: RenderStats,
+    /// Per-stage time.
+    pub timings: StageTimings,
+    /// Bytes written to the device for this frame (0 when nothing changed).
+    pub uploaded_bytes: u64,
+}
+
+/// What one batch's kernels share.
+pub(crate) struct Batch<'a> {
+    ctx: &'a GpuContext,
+    kernels: &'a Kernels,
+    placeholders: &'a Placeholders,
+    scene: &'a wgpu::BindGroup,
+    counters: &'a wgpu::Buffer,
+}
+
+/// Renders frames on one device, keeping the last frame's arrays to upload only changes.
+pub struct GpuRenderer {
+    ctx: Arc<GpuContext>,
+    upload: frame_upload::FrameUpload,
+    kernels: HashMap<(u32, u32), Arc<Kernels>>,
+    placeholders: Placeholders,
+}
+
+impl std::fmt::Debug for GpuRenderer {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("GpuRenderer").finish_non_exhaustive()
+    }
+}
+
+impl GpuRenderer {
+    /// A renderer on `ctx`.
+    pub fn new(ctx: Arc<GpuContext>) -> Result<Self, GpuError> {
+        let placeholders = Placeholders::new(&ctx)?;
+        Ok(Self { upload: frame_upload::FrameUpload::new(ctx.clone()), ctx, kernels: HashMap::new(), placeholders })
+    }
+
+    fn kernels(&mut self, stack: u32, ray_stack: u32) -> Result<Arc<Kernels>, GpuError> {
+        if let Some(k) = self.kernels.get(&(stack, ray_stack)) {
+            return Ok(k.clone());
+        }
+        let k = Arc::new(Kernels::new(&self.ctx, stack, ray_stack)?);
+        self.kernels.insert((stack, ray_stack), k.clone());
+        Ok(k)
+    }
+
+    /// The indices of the set flags, in order, by the device's prefix-sum compaction
+    /// (what the wavefront and hybrid strategies run): exposed for tests.
+    pub fn compact(&mut self, flags: &[u32]) -> Result<Vec<u32>, GpuError> {
+        let k = self.kernels(32, 4)?;
+        compact::compact_on_device(&self.ctx, &k, flags)
+    }
+
+    /// Renders `frame` (size, camera, limits from its settings) traced through `bvh`,
+    /// built on `frame.mesh`, with the CPU Whitted integrator's shading.
+    pub fn render(&mut self, frame: &Frame, bvh: &Bvh, options: &GpuRenderOptions) -> Result<GpuRender, GpuError> {
+        frame_upload::check_supported(frame)?;
+        let t0 = Instant::now();
+        let uploaded_bytes = self.upload.sync(frame, bvh, options.spp, options.seed)?;
+        let upload = t0.elapsed().as_secs_f64();
+        let params = self.upload.params().expect("synced");
+        let stack = self.upload.bvh().expect("synced").stack();
+        let kernels = self.kernels(stack, params.max_level + 2)?;
+        let scene = self.upload.group(&kernels);
+        let ctx = self.ctx.clone();
+        let counters = buffer::output(&ctx, "ray counters", 16)?;
+        ctx.queue.write_buffer(&counters, 0, &[0u8; 16]);
+        let total = self.upload.samples;
+        let spp = self.upload.spp;
+        let batch = Batch {
+            ctx: &ctx,
+            kernels: &kernels,
+            placeholders: &self.placeholders,
+            scene: &scene,
+            counters: &counters,
+        };
+        let mut rec = Recorder::new(&ctx);
+        let mut colors: Vec<[f32; 4]> = vec![[0.0; 4]; total as usize];
+        let mut secondary = 0u64;
+        let mut base = 0u32;
+        while base < total {
+            let n = BATCH.min(total - base);
+            let film = buffer::output(&ctx, "sample radiance", 16 * n as u64)?;
+            secondary += match options.strategy {
+                GpuStrategy::Wavefront => wavefront::render(&batch, &mut rec, base, n, &film)?,
+                GpuStrategy::Megakernel => megakernel::render(&batch, &mut rec, base, n, &film)?,
+                GpuStrategy::Hybrid => hybrid::render(&batch, &mut rec, base, n, &film)?,
+            };
+            rec.read(&film, &mut colors[base as usize..(base + n) as usize])?;
+            base += n;
+        }
+        let mut c = [0u32; 4];
+        rec.read(&counters, &mut c)?;
+        secondary += c[1] as u64;
+        let (w, h) = (frame.settings.width, frame.settings.height);
+        let mut film = Film::new(w, h);
+        for (p, samples) in colors.chunks(spp as usize).enumerate() {
+            // Summed in sample order, as the CPU render loop does.
+            let mut sum = Color::ZERO;
+            for s in samples {
+                sum += Color::new(s[0], s[1], s[2]);
+            }
+            film.add_sum(p as u32 % w.max(1), p as u32 / w.max(1), sum, spp as f32);
+        }
+        let s = rec.seconds;
+        let stats =
+            RenderStats { primary_rays: total as u64, shadow_rays: c[0] as u64, secondary_rays: secondary, tiles: 0 };
+        let timings = StageTimings {
+            generate: s.generate,
+            trace: s.trace,
+            compact: s.compact,
+            shade: s.shade,
+            fused: s.fused,
+            upload,
+            total: t0.elapsed().as_secs_f64(),
+            from_timestamps: ctx.has_timestamps(),
+        };
+        Ok(GpuRender { film, stats, timings, uploaded_bytes })
+    }
+}
