@@ -78,6 +78,20 @@ pub(crate) fn read_into<T: Pod>(ctx: &GpuContext, staging: &wgpu::Buffer, out: &
     Ok(())
 }
 
+/// Copies the first `out.len()` elements of the device buffer `src` (made with
+/// `COPY_SRC`) into `out`, through a staging buffer.
+pub(crate) fn read_back<T: Pod>(ctx: &GpuContext, src: &wgpu::Buffer, out: &mut [T]) -> Result<(), GpuError> {
+    let bytes = std::mem::size_of_val(out) as u64;
+    if bytes == 0 {
+        return Ok(());
+    }
+    let staging = staging(ctx, bytes);
+    let mut enc = ctx.device.create_command_encoder(&Default::default());
+    enc.copy_buffer_to_buffer(src, 0, &staging, 0, bytes);
+    ctx.queue.submit([enc.finish()]);
+    read_into(ctx, &staging, out)
+}
+
 /// Blocks until every submitted command has finished.
 pub(crate) fn wait(ctx: &GpuContext) -> Result<(), GpuError> {
     ctx.device

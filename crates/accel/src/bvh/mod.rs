@@ -51,6 +51,22 @@ impl Bvh {
         Ok(bvh)
     }
 
+    /// A tree assembled from arrays built elsewhere (the GPU builders of `dynray-gpu`),
+    /// accepted only if it passes every invariant [`Bvh::build`]'s trees do, against `mesh`:
+    /// children pairs adjacent and after their parent, every triangle in exactly one leaf,
+    /// leaf triangles exact copies of the mesh's, depth within the traversal stack.
+    pub fn from_parts(
+        mesh: &TriangleMesh,
+        nodes: Vec<BvhNode>,
+        tris: Vec<Triangle>,
+        ids: Vec<u32>,
+        params: &BvhParams,
+    ) -> Result<Self, InvalidBvh> {
+        let mut bvh = Self { nodes, tris, ids, params: *params, depth: 0 };
+        bvh.depth = bvh.check_invariants(mesh)?.max_depth;
+        Ok(bvh)
+    }
+
     /// The node array, root first.
     pub fn nodes(&self) -> &[BvhNode] {
         &self.nodes

@@ -121,3 +121,16 @@ fn the_per_frame_sah_cost_is_the_one_stats_reports() {
         assert!((fast - full).abs() <= 1e-9 * full, "{fast} vs {full}");
     }
 }
+
+#[test]
+fn from_parts_accepts_a_built_tree_and_rejects_a_broken_one() {
+    let (m, bvh) = built(300);
+    let p = *bvh.params();
+    let again =
+        Bvh::from_parts(&m, bvh.nodes().to_vec(), bvh.triangles().to_vec(), bvh.triangle_ids().to_vec(), &p).unwrap();
+    assert_eq!((again.nodes(), again.depth()), (bvh.nodes(), bvh.depth()));
+    let mut ids = bvh.triangle_ids().to_vec();
+    ids.swap(0, 1);
+    let err = Bvh::from_parts(&m, bvh.nodes().to_vec(), bvh.triangles().to_vec(), ids, &p).unwrap_err();
+    assert!(err.what.contains("not a copy"), "{err}");
+}

@@ -7,8 +7,8 @@ pub(crate) use self_check::self_check;
 
 use crate::{buffer, kernel, shader, GpuContext, GpuError};
 use bytemuck::{Pod, Zeroable};
-use dynray_accel::{check_batch_lengths, BatchQuery, Bvh};
-use dynray_geom::{Hit, Ray};
+use dynray_accel::{check_batch_lengths, BatchQuery, Bvh, BvhNode, BvhParams};
+use dynray_geom::{Hit, Ray, Triangle, TriangleMesh};
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 
@@ -85,22 +85,56 @@ impl GpuBvh {
     /// Uploads `bvh`'s arrays and compiles (or reuses) the kernels for its depth.
     pub fn upload(ctx: Arc<GpuContext>, bvh: &Bvh) -> Result<Self, GpuError> {
         let depth = bvh.depth();
+        // COPY_SRC: a device tree can be read back (`download`) for validation.
+        let src = wgpu::BufferUsages::COPY_SRC;
+        let nodes = buffer::storage(&ctx, "BVH nodes", bvh.nodes(), src)?;
+        let tris = buffer::storage(&ctx, "BVH triangles", bvh.triangles(), src)?;
+        let ids = buffer::storage(&ctx, "BVH triangle ids", bvh.triangle_ids(), src)?;
+        Self::from_buffers(ctx, [nodes, tris, ids], bvh.nodes().len(), bvh.triangles().len(), depth)
+    }
+
+    /// A tree whose arrays are already on the device (written by a GPU builder): `buffers`
+    /// are the node, leaf-order triangle and triangle-id arrays in [`Bvh`]'s layout, with
+    /// `node_count` nodes over `triangles` triangles, the deepest leaf at `depth`. They
+    /// need `STORAGE | COPY_SRC | COPY_DST` usage (as [`buffer::output`] gives).
+    pub(crate) fn from_buffers(
+        ctx: Arc<GpuContext>,
+        buffers: [wgpu::Buffer; 3],
+        node_count: usize,
+        triangles: usize,
+        depth: u32,
+    ) -> Result<Self, GpuError> {
         let stack = shader::stack_for(depth).ok_or(GpuError::Device {
             what: "upload",
             message: format!("the BVH is {depth} levels deep; the kernels' stacks hold at most 127"),
         })?;
         let pipelines = ctx.kernels.trace(&ctx, stack)?;
-        let none = wgpu::BufferUsages::empty();
-        Ok(Self {
-            nodes: buffer::storage(&ctx, "BVH nodes", bvh.nodes(), none)?,
-            tris: buffer::storage(&ctx, "BVH triangles", bvh.triangles(), none)?,
-            ids: buffer::storage(&ctx, "BVH triangle ids", bvh.triangle_ids(), none)?,
-            triangles: bvh.triangles().len(),
-            node_count: bvh.nodes().len(),
-            stack,
-            pipelines,
-            ctx,
-        })
+        let [nodes, tris, ids] = buffers;
+        Ok(Self { nodes, tris, ids, triangles, node_count, stack, pipelines, ctx })
+    }
+
+    /// Reads the device's arrays back into a CPU [`Bvh`], checked against `mesh` by
+    /// [`Bvh::from_parts`]: how tests validate the GPU builders, and how a GPU-built tree
+    /// reaches CPU code. `params` are recorded as the tree's build parameters.
+    pub fn download(&self, mesh: &TriangleMesh, params: &BvhParams) -> Result<Bvh, GpuError> {
+        let mut nodes = vec![BvhNode::zeroed(); self.node_count];
+        let mut tris = vec![Triangle::zeroed(); self.triangles];
+        let mut ids = vec![0u32; self.triangles];
+        buffer::read_back(&self.ctx, &self.nodes, &mut nodes)?;
+        buffer::read_back(&self.ctx, &self.tris, &mut tris)?;
+        buffer::read_back(&self.ctx, &self.ids, &mut ids)?;
+        Bvh::from_parts(mesh, nodes, tris, ids, params)
+            .map_err(|e| GpuError::Device { what: "BVH read-back", message: e.to_string() })
+    }
+
+    /// Nodes in the device's array.
+    pub fn node_count(&self) -> usize {
+        self.node_count
+    }
+
+    /// Traversal depth bound the kernels were compiled for (the deepest leaf's depth fits).
+    pub fn depth_capacity(&self) -> u32 {
+        self.stack
     }
 
     /// Replaces the device's arrays with `bvh`'s (a refit or a rebuild of the same mesh):
