@@ -62,8 +62,9 @@ impl Bvh {
         ids: Vec<u32>,
         params: &BvhParams,
     ) -> Result<Self, InvalidBvh> {
-        let mut bvh = Self { nodes, tris, ids, params: *params, depth: 0 };
-        bvh.depth = bvh.check_invariants(mesh)?.max_depth;
+        let depth = deepest_leaf(&nodes);
+        let bvh = Self { nodes, tris, ids, params: *params, depth };
+        bvh.check_invariants(mesh)?;
         Ok(bvh)
     }
 
@@ -91,6 +92,23 @@ impl Bvh {
     pub fn depth(&self) -> u32 {
         self.depth
     }
+}
+
+/// Depth of the deepest leaf of a node array not yet known to be a tree: bad links and
+/// cycles end the walk early (the validator then reports them).
+fn deepest_leaf(nodes: &[BvhNode]) -> u32 {
+    let (mut deepest, mut visits) = (0, 0);
+    let mut stack = vec![(0usize, 0u32)];
+    while let Some((i, depth)) = stack.pop() {
+        visits += 1;
+        let Some(node) = nodes.get(i).filter(|_| visits <= nodes.len()) else { break };
+        deepest = deepest.max(depth);
+        if !node.is_leaf() {
+            let left = node.index as usize;
+            stack.extend([(left, depth + 1), (left.saturating_add(1), depth + 1)]);
+        }
+    }
+    deepest
 }
 
 impl Accel for Bvh {
