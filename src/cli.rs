@@ -5,7 +5,7 @@ use clap::{Args, Parser, Subcommand};
 use dynray_accel::{AccelSpec, UpdatePolicy};
 use dynray_bench::trace_rays::HitField;
 use dynray_bench::{BenchConfig, Preset, RayKind};
-use dynray_gpu::{Backend, GpuOptions};
+use dynray_gpu::{Backend, GpuOptions, GpuStrategy};
 use dynray_render::{Aov, IntegratorKind};
 use std::path::PathBuf;
 
@@ -124,6 +124,12 @@ pub struct RenderArgs {
     pub aov: Option<Aov>,
     #[command(flatten)]
     pub when: TimeArgs,
+    #[command(flatten)]
+    pub backend: BackendArgs,
+    /// With `--backend gpu`: seed 003's tracing strategy (docs/gpu.md, "Tracing strategies").
+    #[arg(long, default_value = "wavefront", value_parser = PossibleValuesParser::new(GpuStrategy::NAMES)
+        .map(|s| s.parse::<GpuStrategy>().expect("listed names parse")))]
+    pub gpu_strategy: GpuStrategy,
 }
 
 /// Default samples per pixel of `render`: enough for clean silhouettes and checker

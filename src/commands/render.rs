@@ -3,10 +3,13 @@
 use super::thousands;
 use crate::cli::RenderArgs;
 use anyhow::{bail, Context, Result};
+use dynray_accel::{AccelKind, Bvh};
+use dynray_gpu::{GpuContext, GpuOptions, GpuRenderOptions, GpuRenderer};
 use dynray_render::{render, render_aov, write_aov, write_image, IntegratorKind, OutputFormat, RenderOptions};
-use dynray_scene::Shading;
+use dynray_scene::{Frame, Shading};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::path::Path;
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 pub fn run(a: RenderArgs) -> Result<()> {
@@ -58,6 +61,9 @@ pub fn run(a: RenderArgs) -> Result<()> {
         }
     }
 
+    if let Some(gpu) = a.backend.gpu_options() {
+        return render_on_gpu(&a, &frame, &label, spp, &gpu);
+    }
     let t0 = Instant::now();
     let accel = a
         .accel
@@ -114,6 +120,45 @@ pub fn run(a: RenderArgs) -> Result<()> {
         options.spp,
         thousands(stats.total_rays() as usize),
         stats.total_rays() as f64 / secs / 1e6,
+        a.output.display()
+    );
+    Ok(())
+}
+
+/// `--backend gpu`: the frame's BVH built on the CPU, uploaded, and traced and shaded on
+/// the device by the chosen strategy (Whitted shading, as the CPU's).
+fn render_on_gpu(a: &RenderArgs, frame: &Frame, label: &str, spp: u32, gpu: &GpuOptions) -> Result<()> {
+    if a.integrator != IntegratorKind::Whitted {
+        bail!("the GPU backend renders with the whitted integrator only (got `{}`)", a.integrator);
+    }
+    if a.aov.is_some() {
+        bail!("--aov is rendered on the CPU only; drop --backend gpu");
+    }
+    if a.accel.kind != AccelKind::Bvh {
+        bail!("the GPU backend traces `bvh` only (got `{}`); use --accel bvh or --backend cpu", a.accel.kind.name());
+    }
+    let t0 = Instant::now();
+    let params = a.accel.read().with_context(|| format!("{label}: cannot build {}", a.accel))?;
+    let bvh = Bvh::build(&frame.mesh, &params).with_context(|| format!("{label}: cannot build {}", a.accel))?;
+    let build = t0.elapsed();
+    let ctx = Arc::new(GpuContext::new(gpu)?);
+    let mut renderer = GpuRenderer::new(ctx.clone())?;
+    let options = GpuRenderOptions { strategy: a.gpu_strategy, spp, seed: a.seed };
+    let out = renderer.render(frame, &bvh, &options).with_context(|| format!("{label}: cannot render on the GPU"))?;
+    write_image(&out.film, &a.output)?;
+    let secs = out.timings.total.max(1e-9);
+    eprintln!(
+        "{label}: {} triangles, bvh build {:.1} ms, {} on {} {:.1} ms ({}x{}, {} spp, {} rays, {:.2} Mrays/s) -> {}",
+        thousands(frame.mesh.triangle_count()),
+        build.as_secs_f64() * 1e3,
+        a.gpu_strategy,
+        ctx.adapter().name,
+        secs * 1e3,
+        out.film.width(),
+        out.film.height(),
+        spp,
+        thousands(out.stats.total_rays() as usize),
+        out.stats.total_rays() as f64 / secs / 1e6,
         a.output.display()
     );
     Ok(())

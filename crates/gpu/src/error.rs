@@ -49,12 +49,6 @@ pub enum GpuError {
         /// What, in words.
         what: String,
     },
-    /// The mesh cannot be built into a BVH (empty, non-finite, too many triangles).
-    #[error("cannot build the BVH: {message}")]
-    Build {
-        /// The builder's reason.
-        message: String,
-    },
     /// A kernel failed to compile or validate, or the device was lost during a command.
     #[error("GPU {what}: {message}")]
     Device {

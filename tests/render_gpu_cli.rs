@@ -1,0 +1,83 @@
+//! `dynray render --backend gpu --gpu-strategy S` through the binary: each of seed 003's
+//! three strategies renders the demo and the example scenes as the CPU's Whitted
+//! integrator does (linear EXR compared per channel), and what the GPU does not render
+//! is refused with a message. Skips without an adapter unless `DYNRAY_REQUIRE_GPU=1` (CI).
+
+mod support;
+
+use std::path::Path;
+use std::process::Output;
+use support::{dynray, examples_dir, ok};
+
+/// Largest per-channel difference allowed: the strategies' f32 shading differs from the
+/// CPU's by a few ulps (render_strategies.rs measures 2.44e-6 on its scene).
+const TOLERANCE: f32 = 1e-4;
+
+fn gpu_present() -> bool {
+    let info = dynray(&["info", "--gpu"]);
+    if info.status.success() {
+        return true;
+    }
+    let why = String::from_utf8_lossy(&info.stderr).to_string();
+    assert!(why.contains("mesa-vulkan-drivers"), "{why}");
+    assert!(std::env::var("DYNRAY_REQUIRE_GPU").map_or(true, |v| v != "1"), "no GPU: {why}");
+    eprintln!("skipping: {why}");
+    false
+}
+
+fn render_exr(scene: Option<&Path>, extra: &[&str], out: &Path) -> Vec<f32> {
+    let mut args = vec!["render", "-o", out.to_str().unwrap(), "--width", "48", "--height", "36", "--spp", "2"];
+    if let Some(s) = scene {
+        args.insert(1, s.to_str().unwrap());
+    }
+    args.extend_from_slice(extra);
+    ok(dynray(&args));
+    let image = exr::prelude::read_all_flat_layers_from_file(out).unwrap();
+    image.layer_data[0].channel_data.list.iter().flat_map(|c| c.sample_data.values_as_f32()).collect()
+}
+
+fn fails_with(o: Output, needle: &str) {
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains(needle), "expected `{needle}` in: {err}");
+}
+
+#[test]
+fn every_strategy_renders_the_cpus_image() {
+    if !gpu_present() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let whitted = examples_dir().join("whitted.scn");
+    for (name, scene) in [("demo", None), ("whitted", Some(whitted.as_path()))] {
+        let cpu = render_exr(scene, &[], &dir.path().join(format!("{name}-cpu.exr")));
+        assert!(cpu.iter().any(|&v| v > 0.05), "{name}: the CPU image is black");
+        for strategy in ["wavefront", "megakernel", "hybrid"] {
+            let out = dir.path().join(format!("{name}-{strategy}.exr"));
+            let gpu = render_exr(scene, &["--backend", "gpu", "--gpu-strategy", strategy], &out);
+            assert_eq!(gpu.len(), cpu.len());
+            let worst = cpu.iter().zip(&gpu).map(|(a, b)| (a - b).abs()).fold(0.0f32, f32::max);
+            assert!(worst <= TOLERANCE, "{name} / {strategy}: largest channel difference {worst}");
+        }
+    }
+}
+
+#[test]
+fn what_the_gpu_does_not_render_is_refused() {
+    if !gpu_present() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.png");
+    let o = out.to_str().unwrap();
+    let gpu = ["--backend", "gpu", "--width", "16", "--height", "12"];
+    let with = |extra: &[&str]| {
+        let mut args = vec!["render", "-o", o];
+        args.extend_from_slice(&gpu);
+        args.extend_from_slice(extra);
+        dynray(&args)
+    };
+    fails_with(with(&["--integrator", "path"]), "whitted integrator only");
+    fails_with(with(&["--accel", "bih"]), "traces `bvh` only");
+    assert!(!out.exists(), "a refused render left an image");
+}
