@@ -7,27 +7,7 @@
 //                    block's offset; list_out[pos] = i for every set flag, in order.
 // Slots: flags (input, work.n of them), aux (block sums; aux[0] = count), list_out.
 
-const SCAN_BLOCK: u32 = 256u;
-
-var<workgroup> scratch: array<u32, SCAN_BLOCK>;
-
-fn block_index(wid: vec3<u32>) -> u32 {
-    return wid.x + wid.y * 65535u;
-}
-
-// Inclusive scan of scratch (Hillis-Steele); every invocation of the group calls it.
-fn scan_scratch(lid: u32) {
-    for (var off = 1u; off < SCAN_BLOCK; off = off * 2u) {
-        workgroupBarrier();
-        var add = 0u;
-        if lid >= off {
-            add = scratch[lid - off];
-        }
-        workgroupBarrier();
-        scratch[lid] = scratch[lid] + add;
-    }
-    workgroupBarrier();
-}
+// SCAN_BLOCK, scratch, block_index and scan_scratch: workgroup_scan.wgsl.
 
 fn flag_at(i: u32) -> u32 {
     if i < work.n {

@@ -144,6 +144,7 @@ pub struct GpuContext {
     precision: Precision,
     timestamps: bool,
     pub(crate) kernels: crate::bvh::KernelCache,
+    pub(crate) builders: crate::build::BuildKernels,
     exactness: OnceLock<Exactness>,
 }
 
@@ -207,6 +208,7 @@ impl GpuContext {
             summary,
             precision,
             kernels: Default::default(),
+            builders: Default::default(),
             exactness: OnceLock::new(),
         })
     }

@@ -13,6 +13,7 @@
 
 mod backend;
 mod buffer;
+mod build;
 mod bvh;
 mod device;
 mod error;
@@ -21,6 +22,7 @@ mod render;
 mod shader;
 
 pub use backend::Backend;
+pub use build::{BuildTimings, GpuBuild};
 pub use bvh::GpuBvh;
 pub use device::{list_adapters, AdapterSummary, Exactness, GpuContext, GpuOptions, Precision};
 pub use error::{GpuError, SOFTWARE_DRIVER_HINT};

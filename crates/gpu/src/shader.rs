@@ -19,6 +19,8 @@ pub(crate) const RENDER_WORK: &str = include_str!("../shaders/render_work.wgsl")
 pub(crate) const CAMERA: &str = include_str!("../shaders/camera.wgsl");
 /// The CPU Whitted integrator's shading.
 pub(crate) const WHITTED_SHADE: &str = include_str!("../shaders/whitted_shade.wgsl");
+/// The workgroup prefix sum compaction and the builders' scan share.
+pub(crate) const WORKGROUP_SCAN: &str = include_str!("../shaders/workgroup_scan.wgsl");
 /// Prefix-sum stream compaction.
 pub(crate) const COMPACT: &str = include_str!("../shaders/compact.wgsl");
 /// The wavefront strategy's kernels.
@@ -41,6 +43,7 @@ pub(crate) fn render_module(precision: Precision, stack: u32, ray_stack: u32) ->
             RENDER_WORK,
             WHITTED_SHADE,
             CAMERA,
+            WORKGROUP_SCAN,
             COMPACT,
             WAVEFRONT,
             MEGAKERNEL,

@@ -64,15 +64,18 @@ impl KernelCache {
 
 /// The device's copy of a [`Bvh`]: what the GPU kernels traverse.
 pub struct GpuBvh {
-    ctx: Arc<GpuContext>,
-    nodes: wgpu::Buffer,
-    tris: wgpu::Buffer,
-    ids: wgpu::Buffer,
-    triangles: usize,
+    pub(crate) ctx: Arc<GpuContext>,
+    pub(crate) nodes: wgpu::Buffer,
+    pub(crate) tris: wgpu::Buffer,
+    pub(crate) ids: wgpu::Buffer,
+    pub(crate) triangles: usize,
     node_count: usize,
     /// Traversal stack entries its kernels are compiled for.
     stack: u32,
     pipelines: Arc<TracePipelines>,
+    /// (first slot, nodes) per depth of a breadth-first tree built on the device, which
+    /// [`GpuBvh::refit`] walks bottom-up; empty for a tree uploaded from the CPU.
+    pub(crate) levels: Vec<[u32; 2]>,
 }
 
 impl std::fmt::Debug for GpuBvh {
@@ -110,7 +113,13 @@ impl GpuBvh {
         })?;
         let pipelines = ctx.kernels.trace(&ctx, stack)?;
         let [nodes, tris, ids] = buffers;
-        Ok(Self { nodes, tris, ids, triangles, node_count, stack, pipelines, ctx })
+        Ok(Self { nodes, tris, ids, triangles, node_count, stack, pipelines, ctx, levels: Vec::new() })
+    }
+
+    /// The same tree, recorded as breadth-first with these levels (device builders).
+    pub(crate) fn with_levels(mut self, levels: Vec<[u32; 2]>) -> Self {
+        self.levels = levels;
+        self
     }
 
     /// Reads the device's arrays back into a CPU [`Bvh`], checked against `mesh` by
@@ -140,7 +149,9 @@ impl GpuBvh {
     /// Replaces the device's arrays with `bvh`'s (a refit or a rebuild of the same mesh):
     /// written in place when the sizes match, re-allocated otherwise.
     pub fn update(&mut self, bvh: &Bvh) -> Result<(), GpuError> {
-        if bvh.nodes().len() == self.node_count && bvh.triangles().len() == self.triangles {
+        self.levels.clear();
+        let same_size = bvh.nodes().len() == self.node_count && bvh.triangles().len() == self.triangles;
+        if same_size && bvh.depth() < self.stack {
             let q = &self.ctx.queue;
             q.write_buffer(&self.nodes, 0, bytemuck::cast_slice(bvh.nodes()));
             q.write_buffer(&self.tris, 0, bytemuck::cast_slice(bvh.triangles()));
