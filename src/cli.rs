@@ -5,7 +5,7 @@ use clap::{Args, Parser, Subcommand};
 use dynray_accel::{AccelSpec, UpdatePolicy};
 use dynray_bench::trace_rays::HitField;
 use dynray_bench::{BenchConfig, Preset, RayKind};
-use dynray_gpu::{Backend, GpuOptions, GpuStrategy};
+use dynray_gpu::{Backend, GpuBuild, GpuOptions, GpuStrategy};
 use dynray_render::{Aov, IntegratorKind};
 use std::path::PathBuf;
 
@@ -48,9 +48,22 @@ pub struct BackendArgs {
     /// else the most capable; `dynray info --gpu` lists them).
     #[arg(long, value_name = "NAME")]
     pub gpu_adapter: Option<String>,
+    /// Where the GPU's BVH is built: `cpu` (then uploaded), `sah` (seed 003's binned SAH on
+    /// the device, level by level) or `lbvh` (Morton codes and Karras' hierarchy on the
+    /// device). Needs --backend gpu.
+    #[arg(long, default_value = "cpu", value_parser = PossibleValuesParser::new(GpuBuild::ALL.map(GpuBuild::name)).map(|s| s.parse::<GpuBuild>().expect("listed names parse")))]
+    pub gpu_build: GpuBuild,
 }
 
 impl BackendArgs {
+    /// Refuses GPU-only options without `--backend gpu`.
+    pub fn check(&self) -> anyhow::Result<()> {
+        if self.backend != Backend::Gpu && self.gpu_build != GpuBuild::Cpu {
+            anyhow::bail!("--gpu-build {} builds for the GPU: add --backend gpu", self.gpu_build);
+        }
+        Ok(())
+    }
+
     /// The GPU's options when `--backend gpu`, `None` for the CPU.
     pub fn gpu_options(&self) -> Option<GpuOptions> {
         (self.backend == Backend::Gpu).then(|| GpuOptions { adapter: self.gpu_adapter.clone(), ..Default::default() })

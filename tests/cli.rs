@@ -408,14 +408,35 @@ fn trace_rays_on_the_gpu_writes_the_cpus_hits() {
     let r = rays.to_str().unwrap();
     let (cpu, gpu) = (dir.path().join("cpu.npz"), dir.path().join("gpu.npz"));
     ok(dynray(&["trace-rays", &bunny(), "--rays", r, "-o", cpu.to_str().unwrap()]));
-    ok(dynray(&["trace-rays", &bunny(), "--rays", r, "-o", gpu.to_str().unwrap(), "--backend", "gpu"]));
-    if out.contains("f64 kernels") && out.contains("every hit equals") {
-        for f in ["t", "u", "v"] {
-            let (a, b): (Vec<f32>, Vec<f32>) = (read_npz(&cpu, f), read_npz(&gpu, f));
-            assert!(a.iter().zip(&b).all(|(x, y)| x.to_bits() == y.to_bits()), "{f} differs");
+    // The tree built on the CPU and uploaded, then by each device builder.
+    for build in ["cpu", "sah", "lbvh"] {
+        let o = dynray(&[
+            "trace-rays",
+            &bunny(),
+            "--rays",
+            r,
+            "-o",
+            gpu.to_str().unwrap(),
+            "--backend",
+            "gpu",
+            "--gpu-build",
+            build,
+        ]);
+        ok(o.clone());
+        if build != "cpu" {
+            assert!(stderr(&o).contains(&format!("{build} build")), "{build}: {}", stderr(&o));
         }
-        assert_eq!(read_npz::<i64>(&cpu, "prim"), read_npz::<i64>(&gpu, "prim"));
+        if out.contains("f64 kernels") && out.contains("every hit equals") {
+            for f in ["t", "u", "v"] {
+                let (a, b): (Vec<f32>, Vec<f32>) = (read_npz(&cpu, f), read_npz(&gpu, f));
+                assert!(a.iter().zip(&b).all(|(x, y)| x.to_bits() == y.to_bits()), "{build}: {f} differs");
+            }
+            assert_eq!(read_npz::<i64>(&cpu, "prim"), read_npz::<i64>(&gpu, "prim"), "{build}");
+        }
     }
+    let o = dynray(&["trace-rays", &bunny(), "--rays", r, "-o", gpu.to_str().unwrap(), "--gpu-build", "lbvh"]);
+    assert_eq!(o.status.code(), Some(1), "--gpu-build without --backend gpu");
+    assert!(stderr(&o).contains("add --backend gpu"), "{}", stderr(&o));
     fails_with(
         dynray(&[
             "trace-rays",

@@ -59,6 +59,14 @@ fn every_strategy_renders_the_cpus_image() {
             let worst = cpu.iter().zip(&gpu).map(|(a, b)| (a - b).abs()).fold(0.0f32, f32::max);
             assert!(worst <= TOLERANCE, "{name} / {strategy}: largest channel difference {worst}");
         }
+        // Trees built on the device trace the same hits, so the image is the same.
+        for build in ["sah", "lbvh"] {
+            let out = dir.path().join(format!("{name}-{build}.exr"));
+            let gpu =
+                render_exr(scene, &["--backend", "gpu", "--gpu-strategy", "wavefront", "--gpu-build", build], &out);
+            let worst = cpu.iter().zip(&gpu).map(|(a, b)| (a - b).abs()).fold(0.0f32, f32::max);
+            assert!(worst <= TOLERANCE, "{name} / {build}-built tree: largest channel difference {worst}");
+        }
     }
 }
 

@@ -37,7 +37,16 @@ pub fn trace_rays<'py>(
         ),
     };
     let pool = pool::pool(threads)?;
-    let job = Job { mesh: &mesh_path, rays: &rays_path, output: &out_path, accel: &spec, query, pose: None, gpu: None };
+    let job = Job {
+        mesh: &mesh_path,
+        rays: &rays_path,
+        output: &out_path,
+        accel: &spec,
+        query,
+        pose: None,
+        gpu: None,
+        gpu_build: Default::default(),
+    };
     let mut notices = Vec::new();
     let result = py.detach(|| pool::run(&pool, || run_job(&job, &mut |n| notices.push(n))));
     for n in notices {

@@ -4,7 +4,7 @@ use super::thousands;
 use crate::cli::RenderArgs;
 use anyhow::{bail, Context, Result};
 use dynray_accel::{AccelKind, Bvh};
-use dynray_gpu::{GpuContext, GpuOptions, GpuRenderOptions, GpuRenderer};
+use dynray_gpu::{GpuBuild, GpuBvh, GpuContext, GpuOptions, GpuRenderOptions, GpuRenderer};
 use dynray_render::{render, render_aov, write_aov, write_image, IntegratorKind, OutputFormat, RenderOptions};
 use dynray_scene::{Frame, Shading};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -61,6 +61,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         }
     }
 
+    a.backend.check()?;
     if let Some(gpu) = a.backend.gpu_options() {
         return render_on_gpu(&a, &frame, &label, spp, &gpu);
     }
@@ -125,8 +126,9 @@ pub fn run(a: RenderArgs) -> Result<()> {
     Ok(())
 }
 
-/// `--backend gpu`: the frame's BVH built on the CPU, uploaded, and traced and shaded on
-/// the device by the chosen strategy (Whitted shading, as the CPU's).
+/// `--backend gpu`: the frame's BVH built where `--gpu-build` says (on the CPU and
+/// uploaded, or on the device), traced and shaded there by the chosen strategy (Whitted
+/// shading, as the CPU's).
 fn render_on_gpu(a: &RenderArgs, frame: &Frame, label: &str, spp: u32, gpu: &GpuOptions) -> Result<()> {
     if a.integrator != IntegratorKind::Whitted {
         bail!("the GPU backend renders with the whitted integrator only (got `{}`)", a.integrator);
@@ -137,18 +139,27 @@ fn render_on_gpu(a: &RenderArgs, frame: &Frame, label: &str, spp: u32, gpu: &Gpu
     if a.accel.kind != AccelKind::Bvh {
         bail!("the GPU backend traces `bvh` only (got `{}`); use --accel bvh or --backend cpu", a.accel.kind.name());
     }
-    let t0 = Instant::now();
-    let params = a.accel.read().with_context(|| format!("{label}: cannot build {}", a.accel))?;
-    let bvh = Bvh::build(&frame.mesh, &params).with_context(|| format!("{label}: cannot build {}", a.accel))?;
-    let build = t0.elapsed();
+    let cannot_build = || format!("{label}: cannot build {}", a.accel);
+    let params = a.accel.read().with_context(cannot_build)?;
     let ctx = Arc::new(GpuContext::new(gpu)?);
     let mut renderer = GpuRenderer::new(ctx.clone())?;
     let options = GpuRenderOptions { strategy: a.gpu_strategy, spp, seed: a.seed };
-    let out = renderer.render(frame, &bvh, &options).with_context(|| format!("{label}: cannot render on the GPU"))?;
+    let t0 = Instant::now();
+    let how = a.backend.gpu_build;
+    let (out, build) = if how == GpuBuild::Cpu {
+        let bvh = Bvh::build(&frame.mesh, &params).with_context(cannot_build)?;
+        let build = t0.elapsed();
+        (renderer.render(frame, &bvh, &options), build)
+    } else {
+        let (tree, _) = GpuBvh::build(ctx.clone(), &frame.mesh, how, &params).with_context(cannot_build)?;
+        let build = t0.elapsed();
+        (renderer.render_device_tree(frame, tree, &options), build)
+    };
+    let out = out.with_context(|| format!("{label}: cannot render on the GPU"))?;
     write_image(&out.film, &a.output)?;
     let secs = out.timings.total.max(1e-9);
     eprintln!(
-        "{label}: {} triangles, bvh build {:.1} ms, {} on {} {:.1} ms ({}x{}, {} spp, {} rays, {:.2} Mrays/s) -> {}",
+        "{label}: {} triangles, bvh build ({how}) {:.1} ms, {} on {} {:.1} ms ({}x{}, {} spp, {} rays, {:.2} Mrays/s) -> {}",
         thousands(frame.mesh.triangle_count()),
         build.as_secs_f64() * 1e3,
         a.gpu_strategy,

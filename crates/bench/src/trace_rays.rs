@@ -90,9 +90,11 @@ pub struct Job<'a> {
     /// `--clip` and `--fps` come through here.
     pub pose: Option<&'a Pose<'a>>,
     /// Trace on the GPU (docs/gpu.md) with the adapter these options choose; `None` traces
-    /// on the CPU. The GPU traces a `bvh` (built on the CPU with the spec's parameters,
-    /// then uploaded: `build` in the summary includes the upload).
+    /// on the CPU. The GPU traces a `bvh` built as `gpu_build` says (`build` in the
+    /// summary includes opening the device and any upload).
     pub gpu: Option<dynray_gpu::GpuOptions>,
+    /// Where the GPU's `bvh` is built (`cpu`, `sah`, `lbvh`); ignored on the CPU.
+    pub gpu_build: dynray_gpu::GpuBuild,
 }
 
 /// Chooses the instant of an animated scene (its clip, frame rate, time) and returns the
@@ -170,7 +172,12 @@ pub fn run(job: &Job<'_>, notices: &mut dyn FnMut(Notice)) -> Result<Summary> {
             let gpu = gpu_bvh(job, &mesh, options).with_context(cannot_build)?;
             let build = t0.elapsed();
             let (h, t, w) = trace_and_write(job, &gpu, &rays, &mesh)?;
-            (h, t, w, ("bvh (gpu)", build))
+            let name = match job.gpu_build {
+                dynray_gpu::GpuBuild::Cpu => "bvh (gpu)",
+                dynray_gpu::GpuBuild::Sah => "bvh (gpu, sah build)",
+                dynray_gpu::GpuBuild::Lbvh => "bvh (gpu, lbvh build)",
+            };
+            (h, t, w, (name, build))
         }
     };
     let (name, build) = name;
@@ -205,14 +212,13 @@ fn trace_and_write<Q: BatchQuery + ?Sized>(
     })
 }
 
-/// The job's `bvh` built on the CPU and uploaded to the adapter `options` choose.
+/// The job's `bvh` on the adapter `options` choose, built where `job.gpu_build` says.
 fn gpu_bvh(job: &Job<'_>, mesh: &TriangleMesh, options: &dynray_gpu::GpuOptions) -> Result<dynray_gpu::GpuBvh> {
     if job.accel.kind != dynray_accel::AccelKind::Bvh {
         bail!("the GPU backend traces `bvh` only (got `{}`); use --accel bvh or --backend cpu", job.accel.kind.name());
     }
-    let bvh = dynray_accel::Bvh::build(mesh, &job.accel.read()?)?;
     let ctx = std::sync::Arc::new(dynray_gpu::GpuContext::new(options)?);
-    Ok(dynray_gpu::GpuBvh::upload(ctx, &bvh)?)
+    Ok(dynray_gpu::GpuBvh::build(ctx, mesh, job.gpu_build, &job.accel.read()?)?.0)
 }
 
 /// Any file dynray reads as one triangle mesh with the file's own vertices (what

@@ -175,6 +175,13 @@ impl Array {
 }
 
 /// What a render needs of a frame, on the device.
+/// The tree a render traces: built on the host (uploaded when it changed) or on the
+/// device ([`GpuBvh::build`]), taken as it is.
+pub(crate) enum Tree<'a> {
+    Host(&'a Bvh),
+    Device(GpuBvh),
+}
+
 pub(crate) struct FrameUpload {
     ctx: Arc<GpuContext>,
     bvh: Option<(GpuBvh, Vec<u8>)>,
@@ -199,11 +206,20 @@ impl FrameUpload {
         self.params.as_ref().map(|p| p.1)
     }
 
-    /// Brings the device's copy up to `frame` (with `bvh` built on its mesh) and sample
+    /// Brings the device's copy up to `frame` (with `tree` built on its mesh) and sample
     /// positions for `spp` and `seed`; returns the bytes written.
-    pub fn sync(&mut self, frame: &Frame, bvh: &Bvh, spp: u32, seed: u64) -> Result<u64, GpuError> {
+    pub fn sync(&mut self, frame: &Frame, tree: Tree<'_>, spp: u32, seed: u64) -> Result<u64, GpuError> {
         let ctx = self.ctx.clone();
         let mut written = 0;
+        let bvh = match tree {
+            Tree::Host(bvh) => bvh,
+            Tree::Device(g) => {
+                // Built on the device: nothing to upload; an empty key makes the next
+                // host tree upload in full.
+                self.bvh = Some((g, Vec::new()));
+                return self.sync_frame(frame, spp, seed);
+            }
+        };
         let key: Vec<u8> = [
             bytemuck::cast_slice::<_, u8>(bvh.nodes()),
             bytemuck::cast_slice(bvh.triangles()),
@@ -222,6 +238,14 @@ impl FrameUpload {
                 self.bvh = Some((GpuBvh::upload(ctx.clone(), bvh)?, key));
             }
         }
+        Ok(written + self.sync_frame(frame, spp, seed)?)
+    }
+
+    /// The frame's arrays and parameters (everything but the tree); returns the bytes
+    /// written.
+    fn sync_frame(&mut self, frame: &Frame, spp: u32, seed: u64) -> Result<u64, GpuError> {
+        let ctx = self.ctx.clone();
+        let mut written = 0;
         let mesh = &frame.mesh;
         let mut materials: Vec<GpuMaterial> = frame.materials.iter().map(material).collect();
         // The fallback of intersector.rs for a triangle whose index names no material.

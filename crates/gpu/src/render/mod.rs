@@ -9,7 +9,7 @@ mod megakernel;
 mod wavefront;
 mod work;
 
-use crate::{buffer, GpuContext, GpuError};
+use crate::{buffer, GpuBvh, GpuContext, GpuError};
 use dynray_accel::Bvh;
 use dynray_render::{Film, RenderStats};
 use dynray_scene::{Color, Frame};
@@ -158,9 +158,30 @@ impl GpuRenderer {
     /// Renders `frame` (size, camera, limits from its settings) traced through `bvh`,
     /// built on `frame.mesh`, with the CPU Whitted integrator's shading.
     pub fn render(&mut self, frame: &Frame, bvh: &Bvh, options: &GpuRenderOptions) -> Result<GpuRender, GpuError> {
+        self.render_tree(frame, frame_upload::Tree::Host(bvh), options)
+    }
+
+    /// [`Self::render`] through a tree built on the device over `frame.mesh`
+    /// ([`GpuBvh::build`] with `sah` or `lbvh`, or refitted there): nothing of the tree
+    /// is uploaded.
+    pub fn render_device_tree(
+        &mut self,
+        frame: &Frame,
+        bvh: GpuBvh,
+        options: &GpuRenderOptions,
+    ) -> Result<GpuRender, GpuError> {
+        self.render_tree(frame, frame_upload::Tree::Device(bvh), options)
+    }
+
+    fn render_tree(
+        &mut self,
+        frame: &Frame,
+        tree: frame_upload::Tree<'_>,
+        options: &GpuRenderOptions,
+    ) -> Result<GpuRender, GpuError> {
         frame_upload::check_supported(frame)?;
         let t0 = Instant::now();
-        let uploaded_bytes = self.upload.sync(frame, bvh, options.spp, options.seed)?;
+        let uploaded_bytes = self.upload.sync(frame, tree, options.spp, options.seed)?;
         let upload = t0.elapsed().as_secs_f64();
         let params = self.upload.params().expect("synced");
         let stack = self.upload.bvh().expect("synced").stack();
