@@ -101,7 +101,7 @@ pub struct RenderArgs {
     /// Image height in pixels (overrides the scene's settings).
     #[arg(long, value_parser = edge_parser())]
     pub height: Option<u32>,
-    /// Whitted: maximum ray level, 1 = primary rays only (overrides
+    /// Whitted and cumulative: maximum ray level, 1 = primary rays only (overrides
     /// `max_recursion_level`). Path: longest path in segments as Mitsuba counts them,
     /// 2 = direct light only (overrides the file's `max_depth`).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
@@ -122,6 +122,15 @@ pub struct RenderArgs {
     /// file's (a Mitsuba sampler's `sample_count`), else 9.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=MAX_SPP as i64))]
     pub spp: Option<u32>,
+    /// Cumulative integrator: bounces whose reflection/refraction pairs are all expanded
+    /// before paths choose one child by Fresnel (docs/rendering.md, "Cumulative");
+    /// max_recursion_level - 1 or more expands everything (Whitted's image). Default 2.
+    #[arg(long, value_name = "K")]
+    pub branch_depth: Option<u32>,
+    /// Cumulative integrator: sample passes of --spp samples per pixel each, accumulated
+    /// into the image (progressive refinement; passes × spp samples in all). Default 1.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=MAX_SPP as i64))]
+    pub passes: Option<u32>,
     /// Seed of the sample positions and of every random choice an integrator makes.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,

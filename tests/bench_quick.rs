@@ -65,6 +65,32 @@ fn check_report(r: &Value) -> Vec<String> {
             );
         }
     }
+    // seed004's renderer comparison: cumulative against recursive Whitted per structure.
+    let rr = &r["seed004_renderers"];
+    let runs = rr["runs"].as_array().cloned().unwrap_or_default();
+    let accels: Vec<&str> = runs.iter().filter_map(|x| x["accel"].as_str()).collect();
+    need(
+        &mut p,
+        accels == ["apit:resolution=64", "abuffer:resolution=64", "bvh"],
+        format!("seed004_renderers: structures {accels:?}"),
+    );
+    for x in &runs {
+        let ok = x["images_identical"] == true
+            && num(&x["full_branch_max_rel_diff"]) <= 1e-5
+            && [&x["whitted_ms"], &x["full_branch_ms"], &x["pass_ms"], &x["build_ms"], &x["rmse"]]
+                .iter()
+                .all(|v| num(v) > 0.0)
+            && x["pass_rays"].as_u64().is_some_and(|n| n > 0)
+            && x["whitted_rays"].as_u64().is_some_and(|n| n > 0);
+        need(&mut p, ok, format!("seed004_renderers: inconsistent run {x}"));
+    }
+    let conv: Vec<f64> = rr["convergence"].as_array().into_iter().flatten().map(|q| num(&q["rmse"])).collect();
+    let passes = rr["passes"].as_u64().unwrap_or(0) as usize;
+    need(
+        &mut p,
+        passes > 1 && conv.len() == passes && conv.iter().all(|e| *e > 0.0) && conv[passes - 1] < conv[0],
+        format!("seed004_renderers: convergence {conv:?} over {passes} passes"),
+    );
     match r["seed003"]["scenes"].as_array() {
         Some(scenes) if !scenes.is_empty() => {
             for sc in scenes {
@@ -252,12 +278,22 @@ fn quick_bench_of_every_preset_writes_a_complete_consistent_report() {
     let w = if primary["hit_work"].is_null() { "escaped_work" } else { "hit_work" };
     primary[w]["nodes"] = (primary[w]["nodes"].as_f64().unwrap() + 1.0).into();
     bad["seed003"]["sweeps"]["lights"].as_array_mut().unwrap().pop();
+    bad["seed004_renderers"]["runs"][1]["images_identical"] = false.into();
     let found = check_report(&bad).join("\n");
-    for what in ["inconsistent ratio", "ray kinds measured", "trace_ms has", "does not add up", "light counts"] {
+    for what in [
+        "inconsistent ratio",
+        "ray kinds measured",
+        "trace_ms has",
+        "does not add up",
+        "light counts",
+        "inconsistent run",
+    ] {
         assert!(found.contains(what), "checker missed `{what}`:\n{found}");
     }
     let md = std::fs::read_to_string(out.path().join("report.md")).unwrap();
-    for heading in ["## seed000", "## seed002", "## seed003", "## seed004", "## Preset dynamic"] {
+    for heading in
+        ["## seed000", "## seed002", "## seed003", "## seed004", "### seed004: cumulative", "## Preset dynamic"]
+    {
         assert!(md.contains(heading), "report.md lacks {heading}");
     }
     // --replot redraws from the JSON alone.

@@ -161,3 +161,51 @@ fn aovs_need_an_exr_output_and_names_are_checked() {
         assert!(err.contains(listed), "{flag} {value}: {err}");
     }
 }
+
+/// `--integrator cumulative` with every bounce expanded is Whitted's image (to rounding
+/// of 8-bit output: the two sum in different orders, a few f32 ulps apart), passes are
+/// reported, and its flags are refused with another integrator.
+#[test]
+fn cumulative_at_full_branch_depth_is_whitted_and_its_flags_are_checked() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("c.png");
+    let whitted = render_png(&["--spp", "1", "--max-depth", "4"], &out);
+    let cumulative =
+        render_png(&["--spp", "1", "--max-depth", "4", "--integrator", "cumulative", "--branch-depth", "4"], &out);
+    let off = whitted.iter().zip(&cumulative).map(|(a, b)| a.abs_diff(*b)).max().unwrap();
+    assert!(off <= 1, "cumulative at full branch depth differs from whitted by {off} levels");
+    let o = ok(dynray(&[
+        "render",
+        "-o",
+        out.to_str().unwrap(),
+        "--width",
+        "32",
+        "--height",
+        "24",
+        "--integrator",
+        "cumulative",
+        "--branch-depth",
+        "0",
+        "--spp",
+        "2",
+        "--passes",
+        "3",
+    ]));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("2 spp × 3 passes"), "{err}");
+    let png = out.to_str().unwrap();
+    for (args, code, says) in [
+        (vec!["--branch-depth", "2"], 1, "--branch-depth applies to --integrator cumulative only"),
+        (vec!["--integrator", "path", "--passes", "2"], 1, "--passes applies to --integrator cumulative only"),
+        (vec!["--integrator", "cumulative", "--passes", "0"], 2, "--passes"),
+        (vec!["--integrator", "cumulative", "--branch-depth", "two"], 2, "--branch-depth"),
+        (vec!["--integrator", "cumulative", "--passes", "40000", "--spp", "2"], 1, "more than 65536"),
+    ] {
+        let mut all = vec!["render", "-o", png];
+        all.extend_from_slice(&args);
+        let o = dynray(&all);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(code), "{args:?}: {err}");
+        assert!(err.contains(says), "{args:?}: {err}");
+    }
+}

@@ -5,7 +5,9 @@ use crate::cli::RenderArgs;
 use anyhow::{bail, Context, Result};
 use dynray_accel::{AccelKind, Bvh};
 use dynray_gpu::{GpuBuild, GpuBvh, GpuContext, GpuOptions, GpuRenderOptions, GpuRenderer};
-use dynray_render::{render, render_aov, write_aov, write_image, IntegratorKind, OutputFormat, RenderOptions};
+use dynray_render::{
+    render, render_aov, write_aov, write_image, IntegratorKind, IntegratorParams, OutputFormat, RenderOptions,
+};
 use dynray_scene::{Frame, Shading};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::path::Path;
@@ -47,6 +49,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         s.max_recursion_level = if a.integrator == IntegratorKind::Path { d - 1 } else { d };
     }
     let spp = a.spp.or(s.spp).unwrap_or(crate::cli::DEFAULT_SPP).min(crate::cli::MAX_SPP);
+    let (params, passes) = cumulative_flags(&a, spp)?;
     if let Some(m) = a.min_weight {
         if !m.is_finite() {
             bail!("--min-weight must be a finite number, got {m}");
@@ -83,8 +86,15 @@ pub fn run(a: RenderArgs) -> Result<()> {
         bar.set_length(total as u64);
         bar.set_position(done as u64);
     };
-    let options =
-        RenderOptions { progress: Some(&progress), spp, seed: a.seed, integrator: a.integrator, ..Default::default() };
+    let options = RenderOptions {
+        progress: Some(&progress),
+        spp,
+        seed: a.seed,
+        integrator: a.integrator,
+        params,
+        passes,
+        ..Default::default()
+    };
     let t1 = Instant::now();
     if let Some(aov) = a.aov {
         let film = render_aov(&frame, accel.as_ref(), aov, &options);
@@ -109,8 +119,9 @@ pub fn run(a: RenderArgs) -> Result<()> {
     write_image(&film, &a.output)?;
 
     let secs = trace.as_secs_f64().max(1e-9);
+    let samples = if passes > 1 { format!("{spp} spp × {passes} passes") } else { format!("{spp} spp") };
     eprintln!(
-        "{label}: {} triangles, {} build {:.1} ms, {} render {:.1} ms ({}x{}, {} spp, {} rays, {:.2} Mrays/s) -> {}",
+        "{label}: {} triangles, {} build {:.1} ms, {} render {:.1} ms ({}x{}, {samples}, {} rays, {:.2} Mrays/s) -> {}",
         thousands(frame.mesh.triangle_count()),
         accel.name(),
         build.as_secs_f64() * 1e3,
@@ -118,12 +129,31 @@ pub fn run(a: RenderArgs) -> Result<()> {
         secs * 1e3,
         film.width(),
         film.height(),
-        options.spp,
         thousands(stats.total_rays() as usize),
         stats.total_rays() as f64 / secs / 1e6,
         a.output.display()
     );
     Ok(())
+}
+
+/// `--branch-depth` and `--passes`: the cumulative integrator's flags. Given with another
+/// integrator they are an error rather than silently ignored (Whitted is deterministic,
+/// so passes would only repeat it; the path tracer takes more samples with --spp).
+fn cumulative_flags(a: &RenderArgs, spp: u32) -> Result<(IntegratorParams, u32)> {
+    if a.integrator != IntegratorKind::Cumulative {
+        for (flag, given) in [("--branch-depth", a.branch_depth.is_some()), ("--passes", a.passes.is_some())] {
+            if given {
+                bail!("{flag} applies to --integrator cumulative only (got `{}`)", a.integrator);
+            }
+        }
+    }
+    let passes = a.passes.unwrap_or(1);
+    let max = crate::cli::MAX_SPP;
+    if spp as u64 * passes as u64 > max as u64 {
+        bail!("--passes {passes} × {spp} spp is {} samples per pixel, more than {max}", spp as u64 * passes as u64);
+    }
+    let params = IntegratorParams { branch_depth: a.branch_depth.unwrap_or(IntegratorParams::default().branch_depth) };
+    Ok((params, passes))
 }
 
 /// `--backend gpu`: the frame's BVH built where `--gpu-build` says (on the CPU and

@@ -225,6 +225,9 @@ pub fn render(r: &Report, png: bool) -> String {
     if let Some(p) = &r.seed004 {
         crate::presets::seed004::markdown(p, png, &mut s);
     }
+    if let Some(p) = &r.seed004_renderers {
+        crate::presets::seed004_renderers::markdown(p, png, &mut s);
+    }
     if let Some(p) = &r.seed003 {
         crate::presets::seed003::markdown(p, png, &mut s);
     }

@@ -34,6 +34,11 @@ pub struct Report {
     pub seed003: Option<Seed003Result>,
     /// `--preset seed004` results (A-PIT against the plain A-buffer by resolution).
     pub seed004: Option<StudyResult>,
+    /// `--preset seed004`'s renderer comparison (cumulative against recursive Whitted
+    /// over the A-PIT, the A-buffer and the BVH). (Absent from reports written before it
+    /// existed.)
+    #[serde(default)]
+    pub seed004_renderers: Option<Seed004Renderers>,
     /// `--preset dynamic` results.
     pub dynamic: Option<DynamicResult>,
     /// Every disagreement with brute force (the run fails when this is not empty).
@@ -475,4 +480,60 @@ pub fn median(v: &[f64]) -> f64 {
     } else {
         0.5 * (s[n / 2 - 1] + s[n / 2])
     }
+}
+
+/// `--preset seed004`'s renderer comparison (`presets::seed004_renderers`).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Seed004Renderers {
+    /// Scene rendered.
+    pub scene: String,
+    /// Its triangles.
+    pub triangles: usize,
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// The scene's `max_recursion_level` (the full branch depth used).
+    pub max_recursion_level: u32,
+    /// Passes of the `K = 0` renders (one sample per pixel each).
+    pub passes: u32,
+    /// One entry per structure.
+    pub runs: Vec<RendererRun>,
+    /// RMSE against Whitted's image after each pass of `K = 0` (the first structure's;
+    /// every structure's images are identical).
+    pub convergence: Vec<ConvergencePoint>,
+}
+
+/// Both renderers over one structure.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct RendererRun {
+    /// `--accels` spelling.
+    pub accel: String,
+    /// Build, ms (one build).
+    pub build_ms: f64,
+    /// Recursive Whitted render, median, ms.
+    pub whitted_ms: f64,
+    /// Rays of the Whitted render (primary + shadow + secondary).
+    pub whitted_rays: u64,
+    /// Cumulative render with every bounce expanded, median, ms.
+    pub full_branch_ms: f64,
+    /// Its largest per-channel relative difference to Whitted's image.
+    pub full_branch_max_rel_diff: f64,
+    /// Cumulative `K = 0`: median render time over the passes / passes, ms.
+    pub pass_ms: f64,
+    /// Rays per pass of that render.
+    pub pass_rays: u64,
+    /// Its RMSE against Whitted's image after the last pass.
+    pub rmse: f64,
+    /// Whether this structure's images equal the first structure's, bit for bit.
+    pub images_identical: bool,
+}
+
+/// The error after some passes.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize)]
+pub struct ConvergencePoint {
+    /// Passes accumulated.
+    pub passes: u32,
+    /// RMSE over every channel against Whitted's image.
+    pub rmse: f64,
 }

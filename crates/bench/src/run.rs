@@ -39,6 +39,7 @@ pub fn run(config: &BenchConfig) -> Result<Report> {
         seed002: None,
         seed003: None,
         seed004: None,
+        seed004_renderers: None,
         dynamic: None,
         mismatches: Vec::new(),
         notes: Vec::new(),
@@ -63,6 +64,7 @@ pub fn run(config: &BenchConfig) -> Result<Report> {
             presets::study::run(config, &presets::seed004::study(config), &mut report.mismatches, &mut report.notes)?;
         r.ratios = presets::seed004::ratios(&r);
         report.seed004 = Some(r);
+        report.seed004_renderers = Some(presets::seed004_renderers::run(config, &mut report.mismatches)?);
     }
     if config.presets.contains(&Preset::Seed003) {
         report.seed003 = Some(presets::seed003::run(config, &accels, &mut report.notes, &mut report.mismatches)?);
@@ -141,6 +143,9 @@ fn write_charts(config: &BenchConfig, report: &Report) -> Result<()> {
     }
     if let Some(s) = &report.seed004 {
         charts::save(&presets::seed004::chart(s), out, "seed004-speedup", config.png)?;
+    }
+    if let Some(r) = &report.seed004_renderers {
+        charts::save(&presets::seed004_renderers::chart(r), out, "seed004-convergence", config.png)?;
     }
     Ok(())
 }

@@ -4,8 +4,13 @@
 //! statistics and thread-count independence; an integrator only answers "how much light
 //! arrives along this ray", drawing any random numbers it needs from the sample's
 //! [`Sampler`] so that its answer depends on nothing but the pixel and the sample index.
+//!
+//! The render loop hands an integrator a batch of camera rays at a time (one tile's
+//! samples, [`Integrator::radiance_batch`]); the default answers them one by one through
+//! [`Integrator::radiance`], and a wavefront integrator ([`crate::Cumulative`]) overrides
+//! it to trace the whole batch one bounce at a time, as a GPU kernel would.
 
-use crate::{PathTracer, Sampler, SceneIntersector, Whitted};
+use crate::{Cumulative, PathTracer, Sampler, SceneIntersector, Whitted, DEFAULT_BRANCH_DEPTH};
 use dynray_geom::Ray;
 use dynray_scene::{Color, Frame};
 
@@ -27,6 +32,32 @@ pub trait Integrator: Sync {
     /// come from `sampler` only; rays traced besides `ray` are counted in `counts`.
     /// Never NaN.
     fn radiance(&self, ray: &Ray, sampler: &mut Sampler, counts: &mut RayCounts) -> Color;
+
+    /// Radiance of a batch of camera rays: `out[i]` for `rays[i]`, drawing from
+    /// `samplers[i]` only, so each answer is the one [`Self::radiance`] would give
+    /// (exactly, for the default; in distribution, for an integrator that draws its
+    /// numbers in another order). The three slices have the same length. The default
+    /// calls [`Self::radiance`] on each ray in order.
+    fn radiance_batch(&self, rays: &[Ray], samplers: &mut [Sampler], out: &mut [Color], counts: &mut RayCounts) {
+        debug_assert!(rays.len() == samplers.len() && rays.len() == out.len(), "batch slices differ in length");
+        for ((ray, sampler), o) in rays.iter().zip(samplers.iter_mut()).zip(out.iter_mut()) {
+            *o = self.radiance(ray, sampler, counts);
+        }
+    }
+}
+
+/// Integrator settings the frame does not carry (command-line flags).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct IntegratorParams {
+    /// [`Cumulative`]: bounces whose reflection/refraction pairs are all expanded before
+    /// paths start choosing one child at random ([`DEFAULT_BRANCH_DEPTH`]).
+    pub branch_depth: u32,
+}
+
+impl Default for IntegratorParams {
+    fn default() -> Self {
+        Self { branch_depth: DEFAULT_BRANCH_DEPTH }
+    }
 }
 
 /// Every integrator the engine offers, by the name `--integrator` accepts.
@@ -38,29 +69,41 @@ pub enum IntegratorKind {
     /// [`PathTracer`]: unidirectional path tracing with next-event estimation and MIS,
     /// converging to Mitsuba 3's `path` integrator.
     Path,
+    /// [`Cumulative`]: seed 004's non-recursive form of Whitted's tracer (running product
+    /// and sum per path, one wavefront pass per bounce, a Fresnel choice past the
+    /// branch depth), whose expected image is Whitted's.
+    Cumulative,
 }
 
 impl IntegratorKind {
     /// All kinds, in the order listings show them.
-    pub const ALL: &'static [IntegratorKind] = &[IntegratorKind::Whitted, IntegratorKind::Path];
+    pub const ALL: &'static [IntegratorKind] =
+        &[IntegratorKind::Whitted, IntegratorKind::Path, IntegratorKind::Cumulative];
 
     /// The names of [`Self::ALL`], for command-line value lists.
-    pub const NAMES: &'static [&'static str] = &["whitted", "path"];
+    pub const NAMES: &'static [&'static str] = &["whitted", "path", "cumulative"];
 
     /// The `--integrator` spelling.
     pub fn name(self) -> &'static str {
         match self {
             IntegratorKind::Whitted => "whitted",
             IntegratorKind::Path => "path",
+            IntegratorKind::Cumulative => "cumulative",
         }
     }
 
     /// The integrator for `frame`, tracing through `scene` (the intersector over that
-    /// frame's geometry).
-    pub fn create<'a>(self, frame: &'a Frame, scene: &'a SceneIntersector<'a>) -> Box<dyn Integrator + 'a> {
+    /// frame's geometry), with `params` where it takes any.
+    pub fn create<'a>(
+        self,
+        frame: &'a Frame,
+        scene: &'a SceneIntersector<'a>,
+        params: &IntegratorParams,
+    ) -> Box<dyn Integrator + 'a> {
         match self {
             IntegratorKind::Whitted => Box::new(Whitted::new(frame, scene)),
             IntegratorKind::Path => Box::new(PathTracer::new(frame, scene)),
+            IntegratorKind::Cumulative => Box::new(Cumulative::new(frame, scene, params.branch_depth)),
         }
     }
 }

@@ -1,6 +1,7 @@
-//! Rendering of dynray: cameras, samplers, the integrators (seed 003's Whitted tracer
-//! and a physically based path tracer) behind one [`Integrator`] trait, the scene-level intersector that answers with
-//! surface hits, the accumulating film, AOVs and image output.
+//! Rendering of dynray: cameras, samplers, the integrators (seed 003's Whitted tracer,
+//! seed 004's cumulative wavefront form of it, and a physically based path tracer) behind
+//! one [`Integrator`] trait, the scene-level intersector that answers with surface hits,
+//! the accumulating film, AOVs and image output.
 //!
 //! The data path is `Frame` + an acceleration structure -> [`SceneIntersector`] (surface
 //! hits) -> an [`Integrator`] per pixel sample, driven by the one render loop
@@ -11,6 +12,7 @@
 
 mod aov;
 mod camera;
+mod cumulative;
 mod error;
 mod facing;
 mod film;
@@ -20,24 +22,27 @@ mod output;
 mod path;
 mod render;
 mod sampler;
+mod shading;
 mod shadow;
 mod surface;
 mod whitted;
 
 pub use aov::{Aov, AovIntegrator};
 pub use camera::{CameraBasis, CameraRays};
+pub use cumulative::{Cumulative, DEFAULT_BRANCH_DEPTH, MAX_LIVE_PATHS};
 pub use error::RenderError;
 pub use facing::{Facing, MIN_EXIT_COS};
 pub use film::{linear_to_srgb8, Film};
-pub use integrator::{Integrator, IntegratorKind, RayCounts};
+pub use integrator::{Integrator, IntegratorKind, IntegratorParams, RayCounts};
 pub use intersector::{Geometry, SceneIntersector, TriangleGeometry};
 pub use output::{write_aov, write_image, OutputFormat};
 pub use path::{PathTracer, Strategy as PathStrategy, MAX_PATH_DEPTH, RR_DEPTH};
-pub use render::{render, render_aov, render_with, RenderOptions, RenderStats};
+pub use render::{render, render_aov, render_with, PassCallback, RenderOptions, RenderStats, BATCH_RAYS};
 pub use sampler::Sampler;
+pub use shading::MAX_LEVEL_CAP;
 pub use shadow::{filter as shadow_filter, Shadows, MAX_SHADOW_CROSSINGS};
 pub use surface::{GeometryRef, SurfaceHit};
-pub use whitted::{Whitted, MAX_LEVEL_CAP};
+pub use whitted::Whitted;
 
 /// Largest image edge, in pixels, the renderer accepts from a user (16384² pixels hold
 /// 4 GiB of film), so a typo cannot ask for terabytes.

@@ -5,12 +5,31 @@
 //! random numbers depend on the pixel and sample index only, see [`Sampler`]) and tiles
 //! are assembled in a fixed order, so the image does not depend on the number of
 //! threads or on scheduling.
+//!
+//! A tile's samples go to the integrator in batches ([`Integrator::radiance_batch`]) of
+//! at most [`BATCH_RAYS`] camera rays, whole pixels at a time, and each pixel's samples
+//! are summed in sample order whatever the batch, so an integrator that answers one ray
+//! at a time gives exactly the image it gave before batches existed.
+//!
+//! Passes ([`RenderOptions::passes`]): the image is rendered `passes` times over, each
+//! pass adding `spp` samples per pixel into the same film (progressive refinement; the
+//! film after pass `p` is a complete image of `p · spp` samples). Every pass re-uses the
+//! same sub-pixel positions (the `spp`-sample pattern) with fresh random streams (sample
+//! indices `p · spp .. (p + 1) · spp`), so the passes of a deterministic camera converge
+//! to the image the same `spp` gives with an integrator that draws no random numbers
+//! (Whitted's), which is what the cumulative integrator's passes are for.
 
-use crate::{Aov, AovIntegrator, CameraRays, Film, Integrator, IntegratorKind, RayCounts, Sampler, SceneIntersector};
+use crate::{
+    Aov, AovIntegrator, CameraRays, Film, Integrator, IntegratorKind, IntegratorParams, RayCounts, Sampler,
+    SceneIntersector,
+};
 use dynray_accel::Accel;
 use dynray_scene::{Color, Frame};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// What [`RenderOptions::pass_done`] calls: `(pass number from 1, film so far)`.
+pub type PassCallback<'a> = dyn Fn(u32, &Film) + Sync + 'a;
 
 /// How to render (what the frame's settings do not say).
 #[derive(Clone, Copy)]
@@ -26,15 +45,34 @@ pub struct RenderOptions<'a> {
     pub seed: u64,
     /// Which integrator [`render`] uses.
     pub integrator: IntegratorKind,
-    /// Called after each finished tile with `(done_tiles, total_tiles)`, from worker
-    /// threads, in completion order; `done_tiles` reaches `total_tiles` exactly once.
+    /// Settings of that integrator beyond the frame's (the cumulative branch depth).
+    pub params: IntegratorParams,
+    /// Sample passes accumulated into the film, `spp` samples per pixel each (clamped
+    /// to at least 1; module docs): `passes · spp` samples per pixel in all.
+    pub passes: u32,
+    /// Called after each finished tile with `(done_tiles, total_tiles)` (tiles of every
+    /// pass), from worker threads, in completion order; `done_tiles` reaches
+    /// `total_tiles` exactly once.
     pub progress: Option<&'a (dyn Fn(usize, usize) + Sync)>,
+    /// Called after each pass with its number (1 = the first) and the film so far, on
+    /// the calling thread: the progressive image.
+    pub pass_done: Option<&'a PassCallback<'a>>,
 }
 
 impl Default for RenderOptions<'_> {
-    /// 16-pixel tiles, one sample per pixel centre, seed 0, Whitted, no progress.
+    /// 16-pixel tiles, one sample per pixel centre, one pass, seed 0, Whitted, no
+    /// callbacks.
     fn default() -> Self {
-        Self { tile_size: 16, spp: 1, seed: 0, integrator: IntegratorKind::Whitted, progress: None }
+        Self {
+            tile_size: 16,
+            spp: 1,
+            seed: 0,
+            integrator: IntegratorKind::Whitted,
+            params: IntegratorParams::default(),
+            passes: 1,
+            progress: None,
+            pass_done: None,
+        }
     }
 }
 
@@ -45,7 +83,10 @@ impl std::fmt::Debug for RenderOptions<'_> {
             .field("spp", &self.spp)
             .field("seed", &self.seed)
             .field("integrator", &self.integrator)
+            .field("params", &self.params)
+            .field("passes", &self.passes)
             .field("progress", &self.progress.map(|_| "callback"))
+            .field("pass_done", &self.pass_done.map(|_| "callback"))
             .finish()
     }
 }
@@ -53,7 +94,7 @@ impl std::fmt::Debug for RenderOptions<'_> {
 /// Rays traced by one render.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct RenderStats {
-    /// Camera rays (one per pixel sample).
+    /// Camera rays (one per pixel sample of every pass).
     pub primary_rays: u64,
     /// Shadow rays.
     pub shadow_rays: u64,
@@ -75,7 +116,7 @@ impl RenderStats {
 /// built on `frame.mesh`. Runs on the current rayon pool.
 pub fn render(frame: &Frame, accel: &dyn Accel, options: &RenderOptions<'_>) -> (Film, RenderStats) {
     let scene = SceneIntersector::triangles(frame, accel);
-    let integrator = options.integrator.create(frame, &scene);
+    let integrator = options.integrator.create(frame, &scene, &options.params);
     render_with(frame, integrator.as_ref(), options)
 }
 
@@ -83,57 +124,111 @@ pub fn render(frame: &Frame, accel: &dyn Accel, options: &RenderOptions<'_>) -> 
 /// a film: one sample through each pixel centre, whatever `options.spp` says.
 pub fn render_aov(frame: &Frame, accel: &dyn Accel, aov: Aov, options: &RenderOptions<'_>) -> Film {
     let scene = SceneIntersector::triangles(frame, accel);
-    render_with(frame, &AovIntegrator::new(aov, &scene), &RenderOptions { spp: 1, ..*options }).0
+    render_with(frame, &AovIntegrator::new(aov, &scene), &RenderOptions { spp: 1, passes: 1, ..*options }).0
 }
 
-/// The render loop: `options.spp` samples per pixel of `frame`'s camera through
-/// `integrator`, in parallel over tiles. Integrators over any geometry (a custom
-/// [`SceneIntersector`]) render through here.
+/// Most camera rays handed to [`Integrator::radiance_batch`] at once: a 16-pixel tile
+/// with 16 samples per pixel. Bounds a wavefront integrator's per-thread buffers at any
+/// `spp`; a tile with more samples is handed over in several batches.
+pub const BATCH_RAYS: usize = 4096;
+
+/// The render loop: `options.passes` passes of `options.spp` samples per pixel of
+/// `frame`'s camera through `integrator`, in parallel over tiles. Integrators over any
+/// geometry (a custom [`SceneIntersector`]) render through here.
 pub fn render_with(frame: &Frame, integrator: &dyn Integrator, options: &RenderOptions<'_>) -> (Film, RenderStats) {
     let (w, h) = (frame.settings.width, frame.settings.height);
     let mut film = Film::new(w, h);
     let ts = options.tile_size.max(1);
     let spp = options.spp.max(1);
+    let passes = options.passes.max(1);
     let (tx, ty) = (w.div_ceil(ts), h.div_ceil(ts));
-    let total = tx as usize * ty as usize;
+    let tiles_per_pass = tx as usize * ty as usize;
+    let total = tiles_per_pass * passes as usize;
     let camera = CameraRays::new(&frame.camera, w, h);
     let done = AtomicUsize::new(0);
+    let mut stats = RenderStats {
+        primary_rays: w as u64 * h as u64 * spp as u64 * passes as u64,
+        tiles: tiles_per_pass,
+        ..Default::default()
+    };
 
-    let tiles: Vec<(Vec<Color>, RayCounts)> = (0..total)
-        .into_par_iter()
-        .map(|i| {
-            let (x0, y0) = ((i as u32 % tx) * ts, (i as u32 / tx) * ts);
-            let (x1, y1) = ((x0 + ts).min(w), (y0 + ts).min(h));
-            let mut counts = RayCounts::default();
-            let mut px = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
-            for y in y0..y1 {
-                for x in x0..x1 {
-                    let mut sum = Color::ZERO;
-                    for s in 0..spp {
-                        let mut sampler = Sampler::new(options.seed, w, x, y, s, spp);
-                        let (ox, oy) = sampler.pixel_offset();
-                        let ray = camera.ray_at(x as f32 + ox, y as f32 + oy);
-                        sum += integrator.radiance(&ray, &mut sampler, &mut counts);
-                    }
-                    px.push(sum);
+    for pass in 0..passes {
+        let job = TileJob { camera: &camera, integrator, seed: options.seed, width: w, spp, first_sample: pass * spp };
+        let tiles: Vec<(Vec<Color>, RayCounts)> = (0..tiles_per_pass)
+            .into_par_iter()
+            .map(|i| {
+                let (x0, y0) = ((i as u32 % tx) * ts, (i as u32 / tx) * ts);
+                let out = job.render((x0, y0), ((x0 + ts).min(w), (y0 + ts).min(h)));
+                if let Some(report) = options.progress {
+                    report(done.fetch_add(1, Ordering::Relaxed) + 1, total);
                 }
+                out
+            })
+            .collect();
+        for (i, (px, counts)) in tiles.into_iter().enumerate() {
+            let (x0, y0) = ((i as u32 % tx) * ts, (i as u32 / tx) * ts);
+            let tw = (x0 + ts).min(w) - x0;
+            for (k, sum) in px.into_iter().enumerate() {
+                film.add_sum(x0 + k as u32 % tw, y0 + k as u32 / tw, sum, spp as f32);
             }
-            if let Some(report) = options.progress {
-                report(done.fetch_add(1, Ordering::Relaxed) + 1, total);
-            }
-            (px, counts)
-        })
-        .collect();
-
-    let mut stats = RenderStats { primary_rays: w as u64 * h as u64 * spp as u64, tiles: total, ..Default::default() };
-    for (i, (px, counts)) in tiles.into_iter().enumerate() {
-        let (x0, y0) = ((i as u32 % tx) * ts, (i as u32 / tx) * ts);
-        let tw = (x0 + ts).min(w) - x0;
-        for (k, sum) in px.into_iter().enumerate() {
-            film.add_sum(x0 + k as u32 % tw, y0 + k as u32 / tw, sum, spp as f32);
+            stats.shadow_rays += counts.shadow;
+            stats.secondary_rays += counts.secondary;
         }
-        stats.shadow_rays += counts.shadow;
-        stats.secondary_rays += counts.secondary;
+        if let Some(report) = options.pass_done {
+            report(pass + 1, &film);
+        }
     }
     (film, stats)
+}
+
+/// One pass's work on a tile: what every tile of the pass shares.
+struct TileJob<'a> {
+    camera: &'a CameraRays,
+    integrator: &'a dyn Integrator,
+    seed: u64,
+    width: u32,
+    spp: u32,
+    /// Index of the pass's first sample (`pass · spp`): its samplers' streams.
+    first_sample: u32,
+}
+
+impl TileJob<'_> {
+    /// Per pixel of the tile `[x0, x1) × [y0, y1)` (row-major), the sum of its `spp`
+    /// samples in sample order, and the rays traced besides the camera rays.
+    fn render(&self, (x0, y0): (u32, u32), (x1, y1): (u32, u32)) -> (Vec<Color>, RayCounts) {
+        let pixels: Vec<(u32, u32)> = (y0..y1).flat_map(|y| (x0..x1).map(move |x| (x, y))).collect();
+        let mut sums = vec![Color::ZERO; pixels.len()];
+        let mut counts = RayCounts::default();
+        // Whole pixels per batch when they fit, else a pixel's samples in several.
+        let per_batch = (BATCH_RAYS / self.spp as usize).max(1);
+        let chunk = (self.spp as usize).min(BATCH_RAYS) as u32;
+        let (mut rays, mut samplers, mut out) = (Vec::new(), Vec::new(), Vec::new());
+        for (group, sums) in pixels.chunks(per_batch).zip(sums.chunks_mut(per_batch)) {
+            let mut s0 = 0;
+            while s0 < self.spp {
+                let s1 = (s0 + chunk).min(self.spp);
+                rays.clear();
+                samplers.clear();
+                for &(x, y) in group {
+                    for s in s0..s1 {
+                        let sampler = Sampler::new(self.seed, self.width, x, y, self.first_sample + s, self.spp);
+                        let (ox, oy) = sampler.pixel_offset();
+                        rays.push(self.camera.ray_at(x as f32 + ox, y as f32 + oy));
+                        samplers.push(sampler);
+                    }
+                }
+                out.clear();
+                out.resize(rays.len(), Color::ZERO);
+                self.integrator.radiance_batch(&rays, &mut samplers, &mut out, &mut counts);
+                let n = (s1 - s0) as usize;
+                for (sum, samples) in sums.iter_mut().zip(out.chunks(n)) {
+                    for c in samples {
+                        *sum += *c;
+                    }
+                }
+                s0 = s1;
+            }
+        }
+        (sums, counts)
+    }
 }

@@ -7,6 +7,7 @@ pub mod seed002;
 pub mod seed003;
 pub mod seed003_sweeps;
 pub mod seed004;
+pub mod seed004_renderers;
 pub mod study;
 
 use dynray_accel::AccelKind;
