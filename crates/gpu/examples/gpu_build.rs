@@ -14,7 +14,7 @@ use std::sync::Arc;
 fn main() -> anyhow::Result<()> {
     let mut args = std::env::args().skip(1);
     let path = args.next().map(PathBuf::from).unwrap_or_else(|| {
-        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/scenes/stanford-bunny/bunny.obj")
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/scenes/bunny/bun_zipper.ply")
     });
     let repeat: usize = args.next().map(|s| s.parse()).transpose()?.unwrap_or(3).max(1);
     let mesh = dynray_scene::load_mesh(&path)?;

@@ -94,6 +94,31 @@ fn bin_of(c: f32, cmin: f32, scale: f32) -> u32 {
     return min(u32(max((c - cmin) * scale, 0.0)), BINS - 1u);
 }
 
+// A node's triangle box and centroid box.
+struct Boxes {
+    lo: vec3<f32>,
+    hi: vec3<f32>,
+    clo: vec3<f32>,
+    chi: vec3<f32>,
+}
+
+// The boxes of the triangles at slots first, first + stride, … below end.
+fn node_boxes(first: u32, end: u32, stride: u32) -> Boxes {
+    var b = Boxes(vec3<f32>(inf()), vec3<f32>(-inf()), vec3<f32>(inf()), vec3<f32>(-inf()));
+    for (var j = first; j < end; j = j + stride) {
+        let t = ids_in[j];
+        for (var v = 0u; v < 3u; v = v + 1u) {
+            let q = corner(t, v);
+            b.lo = min(b.lo, q);
+            b.hi = max(b.hi, q);
+        }
+        let c = centroid(t);
+        b.clo = min(b.clo, c);
+        b.chi = max(b.chi, c);
+    }
+    return b;
+}
+
 fn half_area(lo: vec3<f32>, hi: vec3<f32>) -> f32 {
     let d = hi - lo;
     return d.x * d.y + d.y * d.z + d.z * d.x;
@@ -180,21 +205,11 @@ fn sah_split_small(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocat
     if n > SMALL {
         return;
     }
-    var lo = vec3<f32>(inf());
-    var hi = vec3<f32>(-inf());
-    var clo = lo;
-    var chi = hi;
-    for (var j = range.x; j < range.y; j = j + 1u) {
-        let t = ids_in[j];
-        for (var v = 0u; v < 3u; v = v + 1u) {
-            let q = corner(t, v);
-            lo = min(lo, q);
-            hi = max(hi, q);
-        }
-        let c = centroid(t);
-        clo = min(clo, c);
-        chi = max(chi, c);
-    }
+    let boxes = node_boxes(range.x, range.y, 1u);
+    let lo = boxes.lo;
+    let hi = boxes.hi;
+    let clo = boxes.clo;
+    let chi = boxes.chi;
     nodes[bp.base + e].lo = lo;
     nodes[bp.base + e].hi = hi;
     let scale = bin_scale(chi - clo);
@@ -269,21 +284,11 @@ fn sah_split(
         if n <= SMALL {
             continue;
         }
-        var lo = vec3<f32>(inf());
-        var hi = vec3<f32>(-inf());
-        var clo = lo;
-        var chi = hi;
-        for (var j = range.x + lid; j < range.y; j = j + PLANES) {
-            let t = ids_in[j];
-            for (var v = 0u; v < 3u; v = v + 1u) {
-                let q = corner(t, v);
-                lo = min(lo, q);
-                hi = max(hi, q);
-            }
-            let c = centroid(t);
-            clo = min(clo, c);
-            chi = max(chi, c);
-        }
+        let boxes = node_boxes(range.x + lid, range.y, PLANES);
+        var lo = boxes.lo;
+        var hi = boxes.hi;
+        var clo = boxes.clo;
+        var chi = boxes.chi;
         red_lo[lid] = lo;
         red_hi[lid] = hi;
         red_clo[lid] = clo;

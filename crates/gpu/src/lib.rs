@@ -5,6 +5,8 @@
 //!   the features the kernels use (64-bit floats, timestamps) where the adapter has them.
 //! - [`GpuBvh`] is a BVH on the device; it implements [`dynray_accel::BatchQuery`], so
 //!   `trace-rays`, the bench and the renderer trace through it as through a CPU structure.
+//!   [`GpuBvh::build`] builds it on the device ([`GpuBuild`]: seed 003's binned SAH or an
+//!   LBVH) and [`GpuBvh::refit`] refits it there to a new pose of its mesh.
 //!
 //! Exactness: where the adapter has `SHADER_F64`, the kernels run the engine's f64
 //! watertight test in the CPU's operation order, and [`GpuContext::exactness`] checks at
