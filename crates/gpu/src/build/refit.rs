@@ -28,13 +28,26 @@ pub(crate) fn record(
     levels: &[[u32; 2]],
     n: u32,
 ) -> Result<(), GpuError> {
+    gather(p, mesh_tris, ids, tris, n)?;
     let k = p.ctx.builders.get(p.ctx, Module::Refit)?;
-    let all = p.uniform(&RefitParams { first: 0, count: n, _pad: [0; 2] });
-    p.dispatch_items(&k, "gather_triangles", &[(2, &all), (3, mesh_tris), (4, ids), (5, tris)], n, 64);
     for &[first, count] in levels.iter().rev() {
         let params = p.uniform(&RefitParams { first, count, _pad: [0; 2] });
         p.dispatch_items(&k, "refit_level", &[(0, nodes), (1, tris), (2, &params)], count, 64);
     }
+    Ok(())
+}
+
+/// Records `tris[i] = mesh_tris[ids[i]]` for the `n` triangles (leaf order).
+pub(crate) fn gather(
+    p: &mut Passes<'_>,
+    mesh_tris: &wgpu::Buffer,
+    ids: &wgpu::Buffer,
+    tris: &wgpu::Buffer,
+    n: u32,
+) -> Result<(), GpuError> {
+    let k = p.ctx.builders.get(p.ctx, Module::Refit)?;
+    let all = p.uniform(&RefitParams { first: 0, count: n, _pad: [0; 2] });
+    p.dispatch_items(&k, "gather_triangles", &[(2, &all), (3, mesh_tris), (4, ids), (5, tris)], n, 64);
     Ok(())
 }
 

@@ -7,7 +7,7 @@
 
 use super::kernels::Module;
 use super::passes::{BuildTimings, Passes};
-use super::scan;
+use super::{refit, scan};
 use crate::{buffer, GpuBvh, GpuContext, GpuError};
 use bytemuck::{Pod, Zeroable};
 use dynray_accel::BvhParams;
@@ -149,9 +149,7 @@ pub(crate) fn build(
 
     // Boxes were written level by level; the leaves need their triangles in order.
     let tris = buffer::output(ctx, "BVH triangles", 36 * n as u64)?;
-    let gather = ctx.builders.get(ctx, Module::Refit)?;
-    let all = p.uniform(&[0u32, n, 0, 0]);
-    p.dispatch_items(&gather, "gather_triangles", &[(2, &all), (3, &mesh_tris), (4, &cur.ids), (5, &tris)], n, 64);
+    refit::gather(&mut p, &mesh_tris, &cur.ids, &tris, n)?;
     p.end_stage("gather")?;
 
     let bvh = GpuBvh::from_buffers(ctx.clone(), [nodes, tris, cur.ids], node_count as usize, n as usize, depth)?
