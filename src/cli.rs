@@ -245,6 +245,14 @@ pub struct AnimateArgs {
     /// Shade every surface with its geometric normals (as render --flat-shading).
     #[arg(long)]
     pub flat_shading: bool,
+    /// With `--backend gpu`: the frames traced and shaded on the GPU, the BVH kept there
+    /// (docs/animate.md, "On the GPU").
+    #[command(flatten)]
+    pub backend: BackendArgs,
+    /// With `--backend gpu`: seed 003's tracing strategy (docs/gpu.md, "Tracing strategies").
+    #[arg(long, default_value = "wavefront", value_parser = PossibleValuesParser::new(GpuStrategy::NAMES)
+        .map(|s| s.parse::<GpuStrategy>().expect("listed names parse")))]
+    pub gpu_strategy: GpuStrategy,
 }
 
 /// `A..B` (inclusive) or `K`.
@@ -339,6 +347,10 @@ pub struct BenchArgs {
     /// Write charts as SVG only, and no heat maps.
     #[arg(long)]
     pub no_png: bool,
+    /// With `--backend gpu`: the GPU backend measured beside the CPU on the standard
+    /// run's rays, and seed003's GPU tables (docs/bench.md, "On the GPU").
+    #[command(flatten)]
+    pub backend: BackendArgs,
     /// Measure nothing: draw the charts and write report.md again from DIR/report.json
     /// (after a change of layout; heat maps are kept).
     #[arg(long, value_name = "DIR", conflicts_with_all = ["scenes", "accels", "rays", "preset", "quick"])]

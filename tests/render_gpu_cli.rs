@@ -7,23 +7,11 @@ mod support;
 
 use std::path::Path;
 use std::process::Output;
-use support::{dynray, examples_dir, ok};
+use support::{dynray, examples_dir, gpu_present, ok};
 
 /// Largest per-channel difference allowed: the strategies' f32 shading differs from the
 /// CPU's by a few ulps (render_strategies.rs measures 2.44e-6 on its scene).
 const TOLERANCE: f32 = 1e-4;
-
-fn gpu_present() -> bool {
-    let info = dynray(&["info", "--gpu"]);
-    if info.status.success() {
-        return true;
-    }
-    let why = String::from_utf8_lossy(&info.stderr).to_string();
-    assert!(why.contains("mesa-vulkan-drivers"), "{why}");
-    assert!(std::env::var("DYNRAY_REQUIRE_GPU").map_or(true, |v| v != "1"), "no GPU: {why}");
-    eprintln!("skipping: {why}");
-    false
-}
 
 fn render_exr(scene: Option<&Path>, extra: &[&str], out: &Path) -> Vec<f32> {
     let mut args = vec!["render", "-o", out.to_str().unwrap(), "--width", "48", "--height", "36", "--spp", "2"];

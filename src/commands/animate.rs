@@ -3,11 +3,11 @@
 //! update policy (`dynray_accel::LiveAccel`), `dynray_render::render` — with per-frame
 //! timings, a preview, shards for array jobs and resumption (docs/animate.md).
 
+use super::animate_tracer::{GpuChoice, Tracer};
 use super::{preview, thousands, time};
 use crate::cli::AnimateArgs;
 use anyhow::{bail, Context, Result};
-use dynray_accel::LiveAccel;
-use dynray_render::{render, write_image, RenderOptions};
+use dynray_render::{write_image, RenderOptions};
 use dynray_scene::{Frame, Shading};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::fs::{File, OpenOptions};
@@ -44,6 +44,16 @@ pub fn run(a: AnimateArgs) -> Result<()> {
         );
     }
     let (shard, shards) = a.shard.unwrap_or((0, 1));
+    // Refused options and a missing GPU fail before anything is written.
+    let options = RenderOptions { spp: a.spp, seed: a.seed, integrator: a.integrator, ..Default::default() };
+    a.backend.check()?;
+    let mut tracer = match a.backend.gpu_options() {
+        None => Tracer::cpu(&a.accel, a.update),
+        Some(gpu) => {
+            let choice = GpuChoice { options: &gpu, build: a.backend.gpu_build, strategy: a.gpu_strategy };
+            Tracer::gpu(&a.accel, a.update, &options, choice).with_context(|| label.clone())?
+        }
+    };
     std::fs::create_dir_all(&a.out).with_context(|| format!("{}: cannot create the output folder", a.out.display()))?;
     let mine: Vec<u32> = (first..=last).filter(|k| k % shards == shard).collect();
     let todo: Vec<u32> = mine.iter().copied().filter(|&k| !(a.resume && frame_path(&a.out, k).is_file())).collect();
@@ -58,9 +68,7 @@ pub fn run(a: AnimateArgs) -> Result<()> {
 
     let bar = ProgressBar::new(todo.len() as u64);
     bar.set_style(ProgressStyle::with_template("{bar:40} frame {pos}/{len} {elapsed} (eta {eta}) {msg}").unwrap());
-    let options = RenderOptions { spp: a.spp, seed: a.seed, integrator: a.integrator, ..Default::default() };
     let mut frame = Frame::default();
-    let mut live: Option<LiveAccel> = None;
     let started = Instant::now();
     let mut rays_total = 0u64;
     for &k in &todo {
@@ -74,21 +82,9 @@ pub fn run(a: AnimateArgs) -> Result<()> {
             frame.settings.height = h;
         }
         let pose = t0.elapsed();
-        let eye = Some(frame.camera.position);
-        let report = match &mut live {
-            None => {
-                let (built, time) = LiveAccel::build(&a.accel, a.update, &frame.mesh, eye)
-                    .with_context(|| format!("{label}: frame {k}: cannot build {}", a.accel))?;
-                live = Some(built);
-                dynray_accel::UpdateReport { action: dynray_accel::UpdateAction::Rebuilt, time, cost_ratio: Some(1.0) }
-            }
-            Some(l) => {
-                l.update(&frame.mesh, eye).with_context(|| format!("{label}: frame {k}: cannot update {}", a.accel))?
-            }
-        };
-        let accel = live.as_ref().expect("built above").accel();
+        let report = tracer.update(&frame).with_context(|| format!("{label}: frame {k}"))?;
         let t1 = Instant::now();
-        let (film, stats) = render(&frame, accel, &options);
+        let (film, stats) = tracer.render(&frame, &options).with_context(|| format!("{label}: frame {k}"))?;
         let render_time = t1.elapsed();
         let to_image = t0.elapsed();
         write_image(&film, &frame_path(&a.out, k))?;
@@ -123,11 +119,10 @@ pub fn run(a: AnimateArgs) -> Result<()> {
         String::new()
     };
     eprintln!(
-        "{label}: {} frames of {first}..={last} ({} triangles, {} {}), {} rays in {:.2} s -> {}/frame_NNNN.png, {timings_name}{preview_note}",
+        "{label}: {} frames of {first}..={last} ({} triangles, {}), {} rays in {:.2} s -> {}/frame_NNNN.png, {timings_name}{preview_note}",
         todo.len(),
         thousands(frame.mesh.triangle_count()),
-        a.accel,
-        a.update,
+        tracer.describe(),
         thousands(rays_total as usize),
         started.elapsed().as_secs_f64(),
         a.out.display()

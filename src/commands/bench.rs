@@ -3,6 +3,7 @@
 
 use crate::cli::BenchArgs;
 use anyhow::{bail, Result};
+use dynray_bench::config::GpuBench;
 use dynray_bench::{parse_accels, run::mismatch_summary, BenchConfig, Preset};
 
 pub fn run(a: BenchArgs) -> Result<()> {
@@ -83,6 +84,8 @@ fn config(a: BenchArgs) -> Result<BenchConfig> {
             },
         };
     }
+    a.backend.check()?;
+    c.gpu = a.backend.gpu_options().map(|options| GpuBench { options, build: a.backend.gpu_build });
     c.out = a.out;
     c.scenes_dir = a.scenes_dir;
     c.png = !a.no_png;

@@ -1,6 +1,7 @@
 //! One module per subcommand; `run` applies the global options and dispatches.
 
 mod animate;
+mod animate_tracer;
 mod bench;
 mod gpu_info;
 mod info;

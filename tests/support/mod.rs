@@ -97,3 +97,17 @@ pub fn check_golden(film: &Film, name: &str) -> Result<(), String> {
         ))
     }
 }
+
+/// Whether `dynray info --gpu` finds an adapter; without one the GPU tests skip, saying
+/// which package to install — unless `DYNRAY_REQUIRE_GPU=1` (CI), where that fails.
+pub fn gpu_present() -> bool {
+    let info = dynray(&["info", "--gpu"]);
+    if info.status.success() {
+        return true;
+    }
+    let why = String::from_utf8_lossy(&info.stderr).to_string();
+    assert!(why.contains("mesa-vulkan-drivers"), "{why}");
+    assert!(std::env::var("DYNRAY_REQUIRE_GPU").map_or(true, |v| v != "1"), "no GPU: {why}");
+    eprintln!("skipping: {why}");
+    false
+}

@@ -8,7 +8,10 @@ use dynray_geom::{Hit, Ray, TriangleMesh, Vec3};
 /// Conventions shared by all implementations (see DESIGN.md): hits are those of
 /// [`dynray_geom::Triangle::intersect`] with `ray.tmin <= t <= ray.tmax`; the closest hit
 /// wins and equal `t` goes to the lower triangle index; triangle indices are the mesh's.
-pub trait Accel: Send + Sync {
+///
+/// `Any` lets a caller holding a `&dyn Accel` reach the concrete structure (the GPU
+/// backend uploads a [`crate::Bvh`]'s own arrays): `(accel as &dyn Any).downcast_ref::<Bvh>()`.
+pub trait Accel: Send + Sync + std::any::Any {
     /// Short name, as `--accel` spells it.
     fn name(&self) -> &'static str;
 

@@ -4,6 +4,7 @@ use crate::rays::RayKind;
 use anyhow::{Context, Result};
 use dynray_accel::AccelKind;
 use dynray_accel::AccelSpec;
+use dynray_gpu::{GpuBuild, GpuOptions};
 use std::path::PathBuf;
 
 /// What a bench run does besides (or instead of) the standard measurements.
@@ -87,6 +88,18 @@ pub struct BenchConfig {
     pub progress: bool,
     /// Explicit --width/--height given (presets keep their own size otherwise).
     pub size_given: bool,
+    /// `--backend gpu`: measure the GPU backend too (None: the CPU only).
+    pub gpu: Option<GpuBench>,
+}
+
+/// What `--backend gpu` asks of the bench (docs/bench.md, "On the GPU").
+#[derive(Clone, Debug, Default)]
+pub struct GpuBench {
+    /// Which adapter to open.
+    pub options: GpuOptions,
+    /// Where the standard run's device tree is built (`--gpu-build`); seed003 times every
+    /// builder whatever this says.
+    pub build: GpuBuild,
 }
 
 impl BenchConfig {
@@ -108,6 +121,7 @@ impl BenchConfig {
             png: true,
             progress: true,
             size_given: false,
+            gpu: None,
         }
     }
 

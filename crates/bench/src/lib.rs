@@ -10,6 +10,7 @@ pub mod compare;
 pub mod config;
 pub mod fonts;
 pub mod format;
+pub mod gpu;
 pub mod heatmap;
 pub mod legend;
 pub mod line_chart;

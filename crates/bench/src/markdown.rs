@@ -112,6 +112,13 @@ pub fn render(r: &Report, png: bool) -> String {
     let verify = c.verify_sample.map(|n| format!("{n} rays per kind")).unwrap_or_else(|| "every ray".into());
     let _ = writeln!(s, "| checked against brute force | {verify} |");
     let _ = writeln!(s, "| presets | {} |", c.presets.join(", "));
+    if let Some(g) = &r.gpu {
+        let _ = writeln!(
+            s,
+            "| GPU | {} ({}, {}, {}; {} test; tree built on: {}) |",
+            g.adapter, g.device_type, g.backend, g.driver, g.precision, g.build
+        );
+    }
     let _ = writeln!(s);
     if r.mismatches.is_empty() {
         let _ =
@@ -199,6 +206,7 @@ pub fn render(r: &Report, png: bool) -> String {
             let _ = writeln!(s);
         }
         side_by_side(&mut s, sc, &c.rays);
+        crate::gpu::standard::markdown(sc, &c.rays, &mut s);
         if png {
             let maps: Vec<String> = sc
                 .structures

@@ -49,9 +49,11 @@ pub fn oracle(brute: &dyn Accel, sets: &RaySets, sample: Option<usize>) -> Vec<E
         .collect()
 }
 
-/// Compares `accel` with the oracle's answers; every disagreement becomes a [`Mismatch`].
-pub fn verify(
-    accel: &dyn Accel,
+/// Compares `q`'s answers (a structure, or the GPU backend: anything with the batch
+/// queries) with the oracle's; every disagreement becomes a [`Mismatch`]. Returns the
+/// rays checked.
+pub fn verify<Q: BatchQuery + ?Sized>(
+    q: &Q,
     label: &str,
     scene: &str,
     rays: &[Ray],
@@ -70,26 +72,22 @@ pub fn verify(
             got,
         }
     };
-    let found: Vec<Mismatch> = if exp.kind.is_shadow() {
-        exp.indices
-            .par_iter()
-            .zip(&exp.occluded)
-            .filter_map(|(&i, &want)| {
-                let got = accel.occluded(&rays[i]);
-                (got != want).then(|| mk(i, format!("occluded={want}"), format!("occluded={got}")))
-            })
-            .collect()
+    let sample: Vec<Ray> = exp.indices.iter().map(|&i| rays[i]).collect();
+    if exp.kind.is_shadow() {
+        let got = q.occluded_batch(&sample);
+        for ((&i, &want), &got) in exp.indices.iter().zip(&exp.occluded).zip(&got) {
+            if got != want {
+                out.push(mk(i, format!("occluded={want}"), format!("occluded={got}")));
+            }
+        }
     } else {
-        exp.indices
-            .par_iter()
-            .zip(&exp.hits)
-            .filter_map(|(&i, want)| {
-                let got = accel.intersect(&rays[i]);
-                (!got.same_as(want)).then(|| mk(i, describe(want), describe(&got)))
-            })
-            .collect()
-    };
-    out.extend(found);
+        let got = q.intersect_batch(&sample);
+        for ((&i, want), got) in exp.indices.iter().zip(&exp.hits).zip(&got) {
+            if !got.same_as(want) {
+                out.push(mk(i, describe(want), describe(got)));
+            }
+        }
+    }
     exp.indices.len()
 }
 
@@ -218,44 +216,10 @@ pub fn measure(
     let mut heat = None;
     for (kind, rays) in &input.sets.sets {
         step(kind.name());
-        let shadow = kind.is_shadow();
-        timed_pass(accel.as_ref(), rays, shadow);
-        let mut runs = Vec::with_capacity(input.repeat);
-        let mut hits = 0;
-        for _ in 0..input.repeat.max(1) {
-            let (t, h) = timed_pass(accel.as_ref(), rays, shadow);
-            runs.push(t);
-            hits = h;
-        }
-        // Shadow rays are counted through the closest-hit traversal: the trait has no
-        // counted any-hit query, so their figures are an upper bound of `occluded`'s work.
-        let counted = counted_pass(accel.as_ref(), rays);
-        let n = rays.len().max(1) as f64;
-        let per_ray = |(c, n): (TraversalCounts, usize)| {
-            (n > 0).then(|| Work { nodes: c.nodes as f64 / n as f64, triangles: c.triangles as f64 / n as f64 })
-        };
-        let verified = input
-            .expected
-            .iter()
-            .find(|e| e.kind == *kind)
-            .map(|e| verify(accel.as_ref(), &label, input.scene, rays, e, mismatches))
-            .unwrap_or(0);
-        let trace_ms = median(&runs);
-        kinds.push(KindResult {
-            kind: kind.name().to_string(),
-            rays: rays.len(),
-            trace_ms,
-            trace_ms_runs: runs,
-            mrays_per_s: if trace_ms > 0.0 { rays.len() as f64 / trace_ms / 1e3 } else { 0.0 },
-            nodes_per_ray: counted.total.nodes as f64 / n,
-            triangles_per_ray: counted.total.triangles as f64 / n,
-            hit_work: per_ray(counted.hit),
-            escaped_work: per_ray(counted.escaped),
-            hits,
-            verified,
-        });
+        let (k, work) = measure_kind(accel.as_ref(), accel.as_ref(), &label, input, *kind, rays, mismatches);
+        kinds.push(k);
         if *kind == RayKind::Primary {
-            heat = Some(counted.work);
+            heat = Some(work);
         }
     }
     drop(accel);
@@ -280,6 +244,58 @@ pub fn measure(
         heatmap: None,
     };
     Ok((result, heat))
+}
+
+/// One ray kind through `q`: a warm-up pass then `repeat` timed passes (medians), the
+/// work per ray counted on `counted_on` (the same tree, where `q` cannot count: the GPU
+/// backend's tree read back), and the check against brute force. Returns the result and
+/// each ray's work (nodes + triangles) for the heat map.
+pub fn measure_kind<Q: BatchQuery + ?Sized>(
+    q: &Q,
+    counted_on: &dyn Accel,
+    label: &str,
+    input: &MeasureInput<'_>,
+    kind: RayKind,
+    rays: &[Ray],
+    mismatches: &mut Vec<Mismatch>,
+) -> (KindResult, Vec<u32>) {
+    let shadow = kind.is_shadow();
+    timed_pass(q, rays, shadow);
+    let mut runs = Vec::with_capacity(input.repeat);
+    let mut hits = 0;
+    for _ in 0..input.repeat.max(1) {
+        let (t, h) = timed_pass(q, rays, shadow);
+        runs.push(t);
+        hits = h;
+    }
+    // Shadow rays are counted through the closest-hit traversal: the trait has no
+    // counted any-hit query, so their figures are an upper bound of `occluded`'s work.
+    let counted = counted_pass(counted_on, rays);
+    let n = rays.len().max(1) as f64;
+    let per_ray = |(c, n): (TraversalCounts, usize)| {
+        (n > 0).then(|| Work { nodes: c.nodes as f64 / n as f64, triangles: c.triangles as f64 / n as f64 })
+    };
+    let verified = input
+        .expected
+        .iter()
+        .find(|e| e.kind == kind)
+        .map(|e| verify(q, label, input.scene, rays, e, mismatches))
+        .unwrap_or(0);
+    let trace_ms = median(&runs);
+    let result = KindResult {
+        kind: kind.name().to_string(),
+        rays: rays.len(),
+        trace_ms,
+        trace_ms_runs: runs,
+        mrays_per_s: if trace_ms > 0.0 { rays.len() as f64 / trace_ms / 1e3 } else { 0.0 },
+        nodes_per_ray: counted.total.nodes as f64 / n,
+        triangles_per_ray: counted.total.triangles as f64 / n,
+        hit_work: per_ray(counted.hit),
+        escaped_work: per_ray(counted.escaped),
+        hits,
+        verified,
+    };
+    (result, counted.work)
 }
 
 /// Build + Whitted render at the bench size, `repeat` times: medians of the whole and of

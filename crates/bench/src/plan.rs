@@ -3,6 +3,7 @@
 //! measured on them (and, with the `compare` feature, the other libraries).
 
 use crate::config::BenchConfig;
+use crate::gpu::{self, GpuSession};
 use crate::heatmap;
 use crate::measure::{measure, oracle, MeasureInput};
 use crate::progress::progress_bar;
@@ -34,17 +35,22 @@ pub struct SceneMeasure {
 }
 
 /// Measures every structure of `plan` on its scene: the same ray sets and brute-force
-/// answers for all structures of a scene; disagreements go to `mismatches`.
+/// answers for all structures of a scene; disagreements go to `mismatches`. With `gpu`
+/// (`--backend gpu`), the GPU backend is measured on the same rays for every BVH of the
+/// plan.
 pub fn measure_scenes(
     config: &BenchConfig,
     plan: &[(String, Vec<AccelSpec>)],
     how: &SceneMeasure,
+    mut gpu: Option<&mut GpuSession>,
     mismatches: &mut Vec<Mismatch>,
     notes: &mut Vec<String>,
 ) -> Result<Vec<SceneResult>> {
     let names: Vec<String> = plan.iter().map(|(n, _)| n.clone()).collect();
     let loaded = load_scenes(&names, config.scenes_dir.as_deref())?;
-    let steps: usize = plan.iter().map(|(_, a)| a.len() + 1).sum();
+    let on_gpu =
+        |a: &[AccelSpec]| if gpu.is_some() { a.iter().filter(|v| v.kind == AccelKind::Bvh).count() } else { 0 };
+    let steps: usize = plan.iter().map(|(_, a)| a.len() + 1 + on_gpu(a)).sum();
     let bar = progress_bar(config.progress, steps as u64);
     let mut out = Vec::new();
     for (sc, (_, accels)) in loaded.iter().zip(plan) {
@@ -67,6 +73,7 @@ pub fn measure_scenes(
             ray_counts: sets.sets.iter().map(|(k, r)| KindCount { kind: k.name().into(), rays: r.len() }).collect(),
             structures: Vec::new(),
             competitors: Vec::new(),
+            gpu: Vec::new(),
         };
         for v in accels {
             // Brute force is the oracle: checking it against itself would prove nothing.
@@ -94,6 +101,30 @@ pub fn measure_scenes(
             }
             result.structures.push(res);
             bar.inc(1);
+        }
+        if let Some(g) = gpu.as_deref_mut() {
+            let bvhs: Vec<&AccelSpec> = accels.iter().filter(|v| v.kind == AccelKind::Bvh).collect();
+            if bvhs.is_empty() {
+                let n = "gpu: the GPU backend traces bvh only: add bvh to --accels to measure it".to_string();
+                if !notes.contains(&n) {
+                    notes.push(n);
+                }
+            }
+            for v in bvhs {
+                let input = MeasureInput {
+                    scene: &sc.name,
+                    frame: &sc.frame,
+                    sets: &sets,
+                    expected: &expected,
+                    repeat: how.repeat,
+                    width: how.width,
+                    height: how.height,
+                    time_to_image: how.time_to_image,
+                };
+                let step = |s: &str| bar.set_message(format!("{}{} / {} on the GPU: {s}", how.label, sc.name, v));
+                result.gpu.push(gpu::standard::measure(v, g, &input, mismatches, notes, &step)?);
+                bar.inc(1);
+            }
         }
         #[cfg(not(feature = "compare"))]
         let _ = &notes; // the competitors' remarks are the only notes of this function

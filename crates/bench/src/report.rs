@@ -41,6 +41,10 @@ pub struct Report {
     pub seed004_renderers: Option<Seed004Renderers>,
     /// `--preset dynamic` results.
     pub dynamic: Option<DynamicResult>,
+    /// `--backend gpu`: the adapter the GPU figures were measured on. (Absent from
+    /// reports written before it existed.)
+    #[serde(default)]
+    pub gpu: Option<GpuInfo>,
     /// Every disagreement with brute force (the run fails when this is not empty).
     pub mismatches: Vec<Mismatch>,
     /// Remarks a reader needs (reduced resolution, skipped parts).
@@ -56,6 +60,29 @@ impl Report {
             + self.seed003.as_ref().map_or(0, |s| s.scenes.len())
             + self.dynamic.as_ref().map_or(0, |d| d.runs.len())
     }
+}
+
+/// The adapter of a `--backend gpu` run.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct GpuInfo {
+    /// Device name.
+    pub adapter: String,
+    /// Graphics API (Vulkan).
+    pub backend: String,
+    /// Discrete, integrated, virtual or CPU (software).
+    pub device_type: String,
+    /// Driver name and version.
+    pub driver: String,
+    /// `f64` (hits equal brute force's bit for bit) or `f32` (docs/gpu.md's rule).
+    pub precision: String,
+    /// True for a software device (lavapipe): a CPU emulating a GPU, whose figures rank
+    /// the strategies but are no GPU's speed.
+    pub software: bool,
+    /// Where the standard run's device tree was built: `cpu` (built there, uploaded),
+    /// `sah` or `lbvh`.
+    pub build: String,
+    /// Per-stage GPU times come from timestamp queries (false: wall clock per stage).
+    pub timestamps: bool,
 }
 
 /// The machine.
@@ -107,6 +134,11 @@ pub struct SceneResult {
     pub structures: Vec<StructureResult>,
     /// Other libraries on the same rays (feature `compare`; empty without it).
     pub competitors: Vec<CompetitorResult>,
+    /// `--backend gpu`: the GPU backend on the same rays, one entry per structure it
+    /// traces (`bvh`), measured as the CPU's and checked against the same brute force.
+    /// (Absent from reports written before it existed.)
+    #[serde(default)]
+    pub gpu: Vec<StructureResult>,
 }
 
 /// How many rays of a kind a scene has.
@@ -333,6 +365,9 @@ pub struct Seed003Result {
     /// and 4.4); absent from reports written before it existed.
     #[serde(default)]
     pub sweeps: Option<Seed003Sweeps>,
+    /// `--backend gpu`: the adapter of the GPU columns (`null` without it).
+    #[serde(default)]
+    pub gpu_adapter: Option<String>,
 }
 
 /// The seed003 preset's two ray-casting sweeps, on one scene.
@@ -367,6 +402,9 @@ pub struct Seed003Point {
     pub efficiency: f64,
     /// The two images are identical pixel for pixel (they must be).
     pub images_identical: bool,
+    /// `--backend gpu`: the three strategies on the same image (empty without it).
+    #[serde(default)]
+    pub gpu: Vec<Seed003GpuRun>,
 }
 
 /// One scene of the seed003 preset.
@@ -383,6 +421,12 @@ pub struct Seed003Scene {
     /// Rows by recursion level 1..=10 (level 1 = ray casting: primary + shadow rays, the
     /// seed's "0 nível" row of Table 4.8).
     pub levels: Vec<Seed003Level>,
+    /// `--backend gpu`: the BVH built on 1 thread, median, ms (Table 4.9's CPU column).
+    #[serde(default)]
+    pub cpu_single_build_ms: Option<f64>,
+    /// `--backend gpu`: the device's builds (Table 4.9; empty without it).
+    #[serde(default)]
+    pub gpu_builds: Vec<Seed003GpuBuild>,
 }
 
 /// One recursion level of the seed003 preset (renders with the structure prebuilt,
@@ -407,6 +451,48 @@ pub struct Seed003Level {
     pub brute_speedup: Option<f64>,
     /// True when every image of this level is identical pixel for pixel (they must be).
     pub images_identical: bool,
+    /// `--backend gpu`: seed 003's three strategies at this level (empty without it).
+    #[serde(default)]
+    pub gpu: Vec<Seed003GpuRun>,
+}
+
+/// One GPU strategy rendering one seed003 image (medians of `repeat` after a warm-up).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Seed003GpuRun {
+    /// `wavefront` (the seed's Alg. 1), `megakernel` (Alg. 2) or `hybrid` (Alg. 3).
+    pub strategy: String,
+    /// Render time on the device, ms: the kernels and the read-back of the image, without
+    /// the frame's upload (the seed times rendering with the tree already there).
+    pub ms: f64,
+    /// Rays traced (primary + shadow + secondary).
+    pub rays: u64,
+    /// The 1-thread CPU time over this one (the seed's SP = T_CPU / T_GPU).
+    pub speedup: f64,
+    /// Largest channel difference from the CPU's image of the same level.
+    pub max_abs_diff: f64,
+    /// Pixels whose largest channel difference from the CPU's image is over 1e-3.
+    pub pixels_over_1e3: usize,
+    /// True when at most 1 % of the pixels differ by over 1e-3 (f32 shading on both sides
+    /// in another order; grazing rays may take another path): otherwise a mismatch.
+    pub images_agree: bool,
+}
+
+/// One BVH build of seed003's Table 4.9 (median of `repeat` after a warm-up).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Seed003GpuBuild {
+    /// `cpu` (the CPU's binned SAH on every thread, then uploaded), `sah` (seed 003 §3.8
+    /// on the device) or `lbvh`.
+    pub build: String,
+    /// Build time, ms (upload of the triangles included).
+    pub ms: f64,
+    /// The 1-thread CPU build's time over this one (the seed's "aceleração").
+    pub cpu_over_this: f64,
+    /// Nodes of the tree.
+    pub nodes: usize,
+    /// SAH cost of the tree (the CPU builder's cost model).
+    pub sah_cost: Option<f64>,
+    /// The last build's stages, ms.
+    pub stages: Vec<(String, f64)>,
 }
 
 /// `--preset dynamic`: every vertex moves each frame.

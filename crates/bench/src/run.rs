@@ -1,6 +1,7 @@
 //! The bench's driver: validated settings in, measurements and files out.
 
 use crate::config::{BenchConfig, Preset};
+use crate::gpu::GpuSession;
 use crate::plan::{measure_scenes, SceneMeasure};
 use crate::report::{ConfigEcho, Mismatch, Report, SCHEMA_VERSION};
 use crate::{charts, fonts, machine, markdown, output, presets};
@@ -41,11 +42,22 @@ pub fn run(config: &BenchConfig) -> Result<Report> {
         seed004: None,
         seed004_renderers: None,
         dynamic: None,
+        gpu: None,
         mismatches: Vec::new(),
         notes: Vec::new(),
     };
+    // One device for the whole run (`--backend gpu`): its kernels compile once.
+    let mut gpu = match &config.gpu {
+        Some(g) => {
+            let session = GpuSession::open(g)?;
+            report.gpu = Some(session.info());
+            report.notes.extend(session.notes());
+            Some(session)
+        }
+        None => None,
+    };
     if config.presets.contains(&Preset::Standard) {
-        standard(config, &accels, &mut report)?;
+        standard(config, &accels, gpu.as_mut(), &mut report)?;
     }
     if config.presets.contains(&Preset::Seed000) {
         let mut r =
@@ -67,7 +79,8 @@ pub fn run(config: &BenchConfig) -> Result<Report> {
         report.seed004_renderers = Some(presets::seed004_renderers::run(config, &mut report.mismatches)?);
     }
     if config.presets.contains(&Preset::Seed003) {
-        report.seed003 = Some(presets::seed003::run(config, &accels, &mut report.notes, &mut report.mismatches)?);
+        report.seed003 =
+            Some(presets::seed003::run(config, &accels, gpu.as_mut(), &mut report.notes, &mut report.mismatches)?);
     }
     if config.presets.contains(&Preset::Dynamic) {
         report.dynamic = Some(presets::dynamic::run(config, &accels, &mut report.mismatches)?);
@@ -77,7 +90,12 @@ pub fn run(config: &BenchConfig) -> Result<Report> {
     Ok(report)
 }
 
-fn standard(config: &BenchConfig, accels: &[AccelSpec], report: &mut Report) -> Result<()> {
+fn standard(
+    config: &BenchConfig,
+    accels: &[AccelSpec],
+    gpu: Option<&mut GpuSession>,
+    report: &mut Report,
+) -> Result<()> {
     let plan: Vec<(String, Vec<AccelSpec>)> =
         config.standard_scenes().into_iter().map(|n| (n, accels.to_vec())).collect();
     let how = SceneMeasure {
@@ -90,7 +108,7 @@ fn standard(config: &BenchConfig, accels: &[AccelSpec], report: &mut Report) -> 
         label: "",
         competitors: true,
     };
-    report.scenes = measure_scenes(config, &plan, &how, &mut report.mismatches, &mut report.notes)?;
+    report.scenes = measure_scenes(config, &plan, &how, gpu, &mut report.mismatches, &mut report.notes)?;
     Ok(())
 }
 

@@ -5,6 +5,7 @@ pub mod dynamic;
 pub mod seed000;
 pub mod seed002;
 pub mod seed003;
+pub mod seed003_gpu;
 pub mod seed003_sweeps;
 pub mod seed004;
 pub mod seed004_renderers;

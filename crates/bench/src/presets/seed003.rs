@@ -10,9 +10,11 @@
 //! row of its Table 4.8); levels 2–10 are Whitted ray tracing with that maximum recursion
 //! level. Every render of a level must produce the same image.
 
+use super::seed003_gpu;
 use super::seed003_sweeps as sweeps;
 use crate::config::BenchConfig;
 use crate::format::{num, thousands};
+use crate::gpu::{self, GpuSession};
 use crate::line_chart::{LineChart, Panel, Series};
 use crate::measure::ms;
 use crate::progress::progress_bar;
@@ -42,6 +44,7 @@ pub const LEVELS: u32 = 10;
 pub fn run(
     config: &BenchConfig,
     accels: &[AccelSpec],
+    mut gpu: Option<&mut GpuSession>,
     notes: &mut Vec<String>,
     mismatches: &mut Vec<Mismatch>,
 ) -> Result<Seed003Result> {
@@ -68,7 +71,9 @@ pub fn run(
     let scenes = load_scenes(&names, config.scenes_dir.as_deref())?;
     // The sweeps run on the seed's "Bolas" stand-in where it is measured, else the first scene.
     let sweep_scene = scenes.iter().position(|s| s.name == "demo").unwrap_or(0);
-    let bar = progress_bar(config.progress, (scenes.len() * LEVELS as usize + sweeps::steps(config.quick)) as u64);
+    // With the GPU, each scene's builds are one more step.
+    let per_scene = LEVELS as usize + usize::from(gpu.is_some());
+    let bar = progress_bar(config.progress, (scenes.len() * per_scene + sweeps::steps(config.quick)) as u64);
     let mut out = Vec::new();
     let mut sweep_result = None;
     for (si, sc) in scenes.iter().enumerate() {
@@ -85,6 +90,12 @@ pub fn run(
             accel = accel_v.build(&frame.mesh, Some(frame.camera.position))?;
             builds.push(ms(t));
         }
+        // The GPU renders through the CPU's BVH, uploaded once (the seed's set-up).
+        let gpu_params = gpu::bvh_params(&accel_v)?;
+        let gpu_bvh = match gpu {
+            Some(_) => Some(gpu::cpu_bvh(&frame, &gpu_params, &sc.name)?),
+            None => None,
+        };
         let brute = if frame.mesh.triangle_count() <= BRUTE_MAX_TRIANGLES {
             Some(Brute::build(&frame.mesh).with_context(|| format!("{}: cannot build brute", sc.name))?)
         } else {
@@ -105,6 +116,14 @@ pub fn run(
             }
             let speedup = if parallel_ms > 0.0 { single_ms / parallel_ms } else { 0.0 };
             let brute_ms = brute_run.map(|(t, _, _)| t);
+            let gpu_runs = match (gpu.as_deref_mut(), &gpu_bvh) {
+                (Some(g), Some(b)) => {
+                    let what = format!("level {level}");
+                    let shot = seed003_gpu::CpuShot { scene: &sc.name, what: &what, film: &film_n, single_ms };
+                    seed003_gpu::strategies(g, &frame, b, &shot, config.repeat, mismatches)?
+                }
+                _ => Vec::new(),
+            };
             levels.push(Seed003Level {
                 level,
                 rays,
@@ -115,6 +134,7 @@ pub fn run(
                 brute_single_ms: brute_ms,
                 brute_speedup: brute_ms.filter(|_| parallel_ms > 0.0).map(|b| b / parallel_ms),
                 images_identical: identical,
+                gpu: gpu_runs,
             });
             bar.inc(1);
         }
@@ -129,15 +149,28 @@ pub fn run(
                 threads,
                 repeat: config.repeat,
                 quick: config.quick,
+                gpu_bvh: gpu_bvh.as_ref(),
             };
-            sweep_result = Some(sweeps::run(&input, mismatches, &|| bar.inc(1)));
+            sweep_result = Some(sweeps::run(&input, gpu.as_deref_mut(), mismatches, &|| bar.inc(1))?);
         }
+        let (cpu_single_build_ms, gpu_builds) = match gpu.as_deref_mut() {
+            Some(g) => {
+                bar.set_message(format!("seed003 {}: builds on the GPU", sc.name));
+                let (single_ms, builds) =
+                    seed003_gpu::builds(g, &frame, &gpu_params, &single, config.repeat, &sc.name)?;
+                bar.inc(1);
+                (Some(single_ms), builds)
+            }
+            None => (None, Vec::new()),
+        };
         out.push(Seed003Scene {
             name: sc.name.clone(),
             triangles: frame.mesh.triangle_count(),
             lights: frame.lights.len(),
             build_ms: median(&builds),
             levels,
+            cpu_single_build_ms,
+            gpu_builds,
         });
     }
     bar.finish_and_clear();
@@ -149,6 +182,7 @@ pub fn run(
         brute_max_triangles: BRUTE_MAX_TRIANGLES,
         scenes: out,
         sweeps: sweep_result,
+        gpu_adapter: gpu.map(|g| g.ctx.adapter().name.clone()),
     })
 }
 
@@ -250,6 +284,7 @@ pub fn markdown(p: &Seed003Result, png: bool, s: &mut String) {
             );
         }
         let _ = writeln!(s);
+        seed003_gpu::markdown(sc, p.gpu_adapter.as_deref().unwrap_or("the GPU"), s);
     }
     if let Some(w) = &p.sweeps {
         sweeps::markdown(w, p.threads, s);

@@ -9,9 +9,12 @@
 //! shadow ray does not depend on its light's colour).
 
 use super::seed003::{compare, timed_render};
+use super::seed003_gpu::{self, strategies, CpuShot};
 use crate::format::{num, thousands};
+use crate::gpu::GpuSession;
 use crate::report::{Mismatch, Seed003Point, Seed003Sweeps};
-use dynray_accel::Accel;
+use anyhow::Result;
+use dynray_accel::{Accel, Bvh};
 use dynray_geom::Vec3;
 use dynray_scene::{Frame, Light, LightKind};
 use std::f32::consts::TAU;
@@ -55,27 +58,34 @@ pub struct SweepInput<'a> {
     pub repeat: usize,
     /// `--quick`: fewer, smaller points.
     pub quick: bool,
+    /// `--backend gpu`: the BVH the GPU strategies render through (the CPU's, uploaded).
+    pub gpu_bvh: Option<&'a Bvh>,
 }
 
-/// Measures both sweeps.
-pub fn run(input: &SweepInput<'_>, mismatches: &mut Vec<Mismatch>, step: &dyn Fn()) -> Seed003Sweeps {
+/// Measures both sweeps (with `gpu`: the GPU strategies at every point too).
+pub fn run(
+    input: &SweepInput<'_>,
+    mut gpu: Option<&mut GpuSession>,
+    mismatches: &mut Vec<Mismatch>,
+    step: &dyn Fn(),
+) -> Result<Seed003Sweeps> {
     let (lights, sides) = points(input.quick);
     let mut frame = input.frame.clone();
     frame.settings.max_recursion_level = 1;
     let mut by_lights = Vec::new();
     for &n in lights {
         frame.lights = ring_of_lights(&frame, n);
-        by_lights.push(point(input, &frame, &format!("{n} lights"), mismatches));
+        by_lights.push(point(input, gpu.as_deref_mut(), &frame, &format!("{n} lights"), mismatches)?);
         step();
     }
     frame.lights = ring_of_lights(&frame, RESOLUTION_LIGHTS);
     let mut by_size = Vec::new();
     for &side in sides {
         (frame.settings.width, frame.settings.height) = (side, side);
-        by_size.push(point(input, &frame, &format!("{side}x{side}"), mismatches));
+        by_size.push(point(input, gpu.as_deref_mut(), &frame, &format!("{side}x{side}"), mismatches)?);
         step();
     }
-    Seed003Sweeps { scene: input.scene.to_string(), lights: by_lights, resolution: by_size }
+    Ok(Seed003Sweeps { scene: input.scene.to_string(), lights: by_lights, resolution: by_size })
 }
 
 /// Light counts and image sides of the sweeps (`--quick`: two small points each).
@@ -93,13 +103,27 @@ pub fn steps(quick: bool) -> usize {
     lights.len() + sides.len()
 }
 
-fn point(input: &SweepInput<'_>, frame: &Frame, what: &str, mismatches: &mut Vec<Mismatch>) -> Seed003Point {
+fn point(
+    input: &SweepInput<'_>,
+    gpu: Option<&mut GpuSession>,
+    frame: &Frame,
+    what: &str,
+    mismatches: &mut Vec<Mismatch>,
+) -> Result<Seed003Point> {
     let (single_ms, film_1, rays) = timed_render(frame, input.accel, Some(input.single), input.repeat);
     let (parallel_ms, film_n, _) = timed_render(frame, input.accel, None, input.repeat);
     let kind = format!("sweep {what}: 1 thread");
     let images_identical = compare(&film_1, &film_n, input.scene, input.label, 1, &kind, mismatches);
     let speedup = if parallel_ms > 0.0 { single_ms / parallel_ms } else { 0.0 };
-    Seed003Point {
+    let gpu = match (gpu, input.gpu_bvh) {
+        (Some(g), Some(b)) => {
+            let what = format!("sweep {what}");
+            let shot = CpuShot { scene: input.scene, what: &what, film: &film_n, single_ms };
+            strategies(g, frame, b, &shot, input.repeat, mismatches)?
+        }
+        _ => Vec::new(),
+    };
+    Ok(Seed003Point {
         lights: frame.lights.len(),
         width: frame.settings.width,
         height: frame.settings.height,
@@ -109,23 +133,28 @@ fn point(input: &SweepInput<'_>, frame: &Frame, what: &str, mismatches: &mut Vec
         speedup,
         efficiency: speedup / input.threads as f64,
         images_identical,
-    }
+        gpu,
+    })
 }
 
-/// The sweeps' part of the preset's report.md section.
+/// The sweeps' part of the preset's report.md section (with the GPU strategies' columns
+/// when they ran).
 pub fn markdown(w: &Seed003Sweeps, threads: usize, s: &mut String) {
+    let on_gpu = w.lights.iter().chain(&w.resolution).any(|p| !p.gpu.is_empty());
+    let (gpu_head, gpu_rule) = if on_gpu { seed003_gpu::header() } else { Default::default() };
     let _ = writeln!(
         s,
         "### Ray casting on {} against the number of lights (Table 4.3's scenes 1–5) and the image size \
          (Table 4.4: {RESOLUTION_LIGHTS} lights)\n\n\
-         | lights | image | rays | 1 thread ms | {threads} threads ms | SP | EF | same image |\n\
-         |--:|--:|--:|--:|--:|--:|--:|:-:|",
+         | lights | image | rays | 1 thread ms | {threads} threads ms | SP | EF | same image |{gpu_head}\n\
+         |--:|--:|--:|--:|--:|--:|--:|:-:|{gpu_rule}",
         w.scene
     );
     for p in w.lights.iter().chain(&w.resolution) {
+        let gpu = if on_gpu { seed003_gpu::cells(&p.gpu) } else { String::new() };
         let _ = writeln!(
             s,
-            "| {} | {}×{} | {} | {} | {} | {:.2} | {:.2} | {} |",
+            "| {} | {}×{} | {} | {} | {} | {:.2} | {:.2} | {} |{gpu}",
             p.lights,
             p.width,
             p.height,

@@ -71,7 +71,7 @@ pub fn run(
         label: study.preset,
         competitors: false,
     };
-    let scenes = measure_scenes(config, &study.plan, &how, mismatches, notes)?;
+    let scenes = measure_scenes(config, &study.plan, &how, None, mismatches, notes)?;
     Ok(StudyResult {
         preset: study.preset.to_string(),
         width,

@@ -180,6 +180,8 @@ impl Array {
 pub(crate) enum Tree<'a> {
     Host(&'a Bvh),
     Device(GpuBvh),
+    /// The tree already on the device (perhaps refitted there since).
+    Kept,
 }
 
 pub(crate) struct FrameUpload {
@@ -202,6 +204,11 @@ impl FrameUpload {
         self.bvh.as_ref().map(|(b, _)| b)
     }
 
+    /// The same, to change on the device (a refit).
+    pub fn bvh_mut(&mut self) -> Option<&mut GpuBvh> {
+        self.bvh.as_mut().map(|(b, _)| b)
+    }
+
     pub fn params(&self) -> Option<SceneParams> {
         self.params.as_ref().map(|p| p.1)
     }
@@ -217,6 +224,14 @@ impl FrameUpload {
                 // Built on the device: nothing to upload; an empty key makes the next
                 // host tree upload in full.
                 self.bvh = Some((g, Vec::new()));
+                return self.sync_frame(frame, spp, seed);
+            }
+            Tree::Kept => {
+                let Some((_, key)) = &mut self.bvh else {
+                    return Err(GpuError::Unsupported { what: "rendering the kept tree before any tree".into() });
+                };
+                // It may have changed on the device: a later host tree uploads in full.
+                key.clear();
                 return self.sync_frame(frame, spp, seed);
             }
         };

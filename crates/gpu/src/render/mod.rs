@@ -173,6 +173,20 @@ impl GpuRenderer {
         self.render_tree(frame, frame_upload::Tree::Device(bvh), options)
     }
 
+    /// The tree of the last render, on the device: refit it there
+    /// ([`GpuBvh::refit`]) to a new pose, then render that pose with
+    /// [`Self::render_kept_tree`]. `None` before the first render.
+    pub fn tree_mut(&mut self) -> Option<&mut GpuBvh> {
+        self.upload.bvh_mut()
+    }
+
+    /// [`Self::render`] through the tree already on the device (the last render's,
+    /// perhaps refitted since): the per-frame path of an animation whose tree stays on
+    /// the device. An error before any tree was given.
+    pub fn render_kept_tree(&mut self, frame: &Frame, options: &GpuRenderOptions) -> Result<GpuRender, GpuError> {
+        self.render_tree(frame, frame_upload::Tree::Kept, options)
+    }
+
     fn render_tree(
         &mut self,
         frame: &Frame,

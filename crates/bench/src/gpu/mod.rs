@@ -1,0 +1,89 @@
+//! `--backend gpu` (docs/bench.md, "On the GPU"): one device opened for the whole run,
+//! the GPU backend measured on the standard run's rays ([`standard`]) and seed 003's
+//! strategies and builders timed against the CPU (`presets::seed003_gpu`).
+
+pub mod standard;
+
+use crate::config::GpuBench;
+use crate::report::GpuInfo;
+use anyhow::{Context, Result};
+use dynray_accel::{AccelKind, AccelSpec, Bvh, BvhParams};
+use dynray_gpu::{GpuBuild, GpuContext, GpuRenderer, Precision};
+use dynray_scene::Frame;
+use std::sync::Arc;
+
+/// The device of a `--backend gpu` run, with one renderer (its kernels compiled once).
+pub struct GpuSession {
+    /// The device.
+    pub ctx: Arc<GpuContext>,
+    /// Renders frames on it, uploading only what changed since the last one.
+    pub renderer: GpuRenderer,
+    /// Where the standard run builds its device tree.
+    pub build: GpuBuild,
+}
+
+impl GpuSession {
+    /// Opens the adapter `bench` names (or the most capable one); the error names the
+    /// package to install when there is none.
+    pub fn open(bench: &GpuBench) -> Result<Self> {
+        let ctx = Arc::new(GpuContext::new(&bench.options).context("--backend gpu")?);
+        let renderer = GpuRenderer::new(ctx.clone()).context("--backend gpu: cannot create the renderer")?;
+        Ok(Self { ctx, renderer, build: bench.build })
+    }
+
+    /// What the report says of the adapter.
+    pub fn info(&self) -> GpuInfo {
+        let a = self.ctx.adapter();
+        GpuInfo {
+            adapter: a.name.clone(),
+            backend: a.backend.clone(),
+            device_type: a.device_type.clone(),
+            driver: a.driver.clone(),
+            precision: self.ctx.precision().name().to_string(),
+            software: self.is_software(),
+            build: self.build.name().to_string(),
+            timestamps: self.ctx.has_timestamps(),
+        }
+    }
+
+    /// A software device (lavapipe) runs the kernels on the CPU's cores.
+    pub fn is_software(&self) -> bool {
+        self.ctx.adapter().device_type == "CPU (software)"
+    }
+
+    /// The notes a reader needs beside the GPU figures.
+    pub fn notes(&self) -> Vec<String> {
+        let a = self.ctx.adapter();
+        let mut notes = Vec::new();
+        if self.is_software() {
+            notes.push(format!(
+                "gpu: measured on {} ({}), a software Vulkan device: a CPU emulating a GPU on this machine's \
+                 cores. Its figures rank the strategies and builders against each other; they are no GPU's speed.",
+                a.name, a.driver
+            ));
+        }
+        if self.ctx.precision() == Precision::F32 {
+            notes.push(
+                "gpu: the adapter has no 64-bit floats: the kernels run the f32 test, whose hits may differ from \
+                 brute force's at edges (docs/gpu.md); disagreements are still reported."
+                    .into(),
+            );
+        }
+        notes
+    }
+}
+
+/// The BVH the GPU traces for `spec`: its own parameters when `spec` is a BVH, the
+/// default BVH otherwise (the GPU kernels traverse `bvh` only).
+pub fn bvh_params(spec: &AccelSpec) -> Result<BvhParams> {
+    if spec.kind == AccelKind::Bvh {
+        spec.read().with_context(|| format!("cannot read the parameters of {spec}"))
+    } else {
+        Ok(BvhParams::default())
+    }
+}
+
+/// Builds the CPU's BVH over `frame`'s mesh with `params`.
+pub fn cpu_bvh(frame: &Frame, params: &BvhParams, scene: &str) -> Result<Bvh> {
+    Bvh::build(&frame.mesh, params).with_context(|| format!("{scene}: cannot build bvh"))
+}

@@ -1,0 +1,81 @@
+//! `dynray animate --backend gpu` through the binary on examples/animated.scn (a bouncing
+//! ball, a spinning cube, an orbiting sphere, a moving light and camera): with every
+//! builder and update policy the GPU renders the frames the CPU renders (8-bit PNGs
+//! within one step per channel), its tree follows the policy (timings.csv), and what the
+//! GPU cannot animate is refused before anything is written. Skips without an adapter
+//! unless `DYNRAY_REQUIRE_GPU=1` (CI).
+
+mod support;
+
+use std::path::Path;
+use std::process::Output;
+use support::{dynray, examples_dir, gpu_present, ok};
+
+fn animate(out: &Path, extra: &[&str]) -> Output {
+    let scene = examples_dir().join("animated.scn");
+    let mut args = vec!["animate", scene.to_str().unwrap(), "--out", out.to_str().unwrap(), "--frames", "0..3"];
+    args.extend_from_slice(&["--width", "48", "--height", "36", "--spp", "1"]);
+    args.extend_from_slice(extra);
+    dynray(&args)
+}
+
+/// Frame `k`'s pixels.
+fn frame(dir: &Path, k: u32) -> image::RgbImage {
+    image::open(dir.join(format!("frame_{k:04}.png"))).unwrap().to_rgb8()
+}
+
+/// The `update` column of timings.csv.
+fn actions(dir: &Path) -> Vec<String> {
+    let csv = std::fs::read_to_string(dir.join("timings.csv")).unwrap();
+    csv.lines().skip(1).map(|l| l.split(',').nth(3).unwrap().to_string()).collect()
+}
+
+#[test]
+fn gpu_frames_are_the_cpus_with_every_builder_and_policy() {
+    if !gpu_present() {
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let cpu = tmp.path().join("cpu");
+    ok(animate(&cpu, &[]));
+    assert_ne!(frame(&cpu, 0), frame(&cpu, 3), "the scene does not move");
+    let runs: [(&str, &str, &[&str]); 4] = [
+        ("cpu", "auto", &["rebuilt", "refit", "refit", "refit"]),
+        ("lbvh", "refit", &["rebuilt", "refit", "refit", "refit"]),
+        ("sah", "rebuild", &["rebuilt", "rebuilt", "rebuilt", "rebuilt"]),
+        ("lbvh", "auto", &["rebuilt", "refit", "refit", "refit"]),
+    ];
+    for (build, update, want) in runs {
+        let dir = tmp.path().join(format!("{build}-{update}"));
+        let out = ok(animate(&dir, &["--backend", "gpu", "--gpu-build", build, "--update", update]));
+        let said = String::from_utf8_lossy(&out.stderr);
+        assert!(said.contains(&format!("{build} build")), "{said}");
+        assert_eq!(actions(&dir), want, "{build} / {update}");
+        for k in 0..4 {
+            let (a, b) = (frame(&cpu, k), frame(&dir, k));
+            assert_eq!(a.dimensions(), b.dimensions());
+            let worst = a.as_raw().iter().zip(b.as_raw()).map(|(x, y)| x.abs_diff(*y)).max().unwrap();
+            // f32 shading in another order: a 1e-4 difference can round to the next step.
+            assert!(worst <= 1, "{build} / {update}, frame {k}: a channel differs by {worst}");
+        }
+    }
+}
+
+#[test]
+fn what_the_gpu_cannot_animate_is_refused_before_writing() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cases: [(&[&str], &str); 3] = [
+        (&["--gpu-build", "lbvh"], "add --backend gpu"),
+        (&["--backend", "gpu", "--integrator", "path"], "whitted integrator only"),
+        (&["--backend", "gpu", "--accel", "bih"], "traces `bvh` only"),
+    ];
+    for (i, (extra, needle)) in cases.into_iter().enumerate() {
+        let dir = tmp.path().join(format!("refused-{i}"));
+        let o = animate(&dir, extra);
+        let err = String::from_utf8_lossy(&o.stderr);
+        // Refused before a device is opened: the same message with or without one.
+        assert_eq!(o.status.code(), Some(1), "{extra:?}: {err}");
+        assert!(err.contains(needle), "{extra:?}: expected `{needle}` in: {err}");
+        assert!(!dir.exists(), "{extra:?}: a refused run created {}", dir.display());
+    }
+}
