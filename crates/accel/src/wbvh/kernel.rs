@@ -65,7 +65,7 @@ impl Kernel for Scalar {
     #[inline(always)]
     fn boxes<N: WideNode>(node: &N, r: &BoxRay, tmin: f32, limit: f32, near: &mut Nears) -> u32 {
         let mut mask = 0;
-        for i in 0..node.count() {
+        for (i, near_i) in near.iter_mut().enumerate().take(node.count()) {
             let (mut n, mut f) = (f32::NEG_INFINITY, f32::INFINITY);
             for a in 0..3 {
                 let t0 = (node.lo(a)[i] - r.org[a]) * r.inv[a];
@@ -81,7 +81,7 @@ impl Kernel for Scalar {
             let f = f * if f > 0.0 { 1.0 + SLAB_MARGIN } else { 1.0 - SLAB_MARGIN };
             let n = if tmin > n { tmin } else { n };
             let f = if limit < f { limit } else { f };
-            near[i] = n;
+            *near_i = n;
             mask |= ((n <= f) as u32) << i;
         }
         mask

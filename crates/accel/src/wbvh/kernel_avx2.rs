@@ -35,41 +35,75 @@ struct BlockHits {
     v: [f32; 4],
 }
 
+// The helpers below are `#[inline(always)]` functions, not closures: a closure is a
+// function of its own without AVX2 enabled, which LLVM left out of line (three calls per
+// block, measured in the disassembly), and then the intrinsics inside it are calls too.
+
+/// Vertex `vert` of the 4 lanes relative to the origin, in the ray's axis order:
+/// `p[k] as f64 - o` (f32 → f64 is exact).
+#[inline(always)]
+fn rel(b: &TriBlock, vert: usize, k: [usize; 3], o: [__m256d; 3]) -> [__m256d; 3] {
+    // SAFETY: see the file's header (AVX2 is present wherever this is inlined).
+    unsafe {
+        let c = &b.v[vert];
+        let coord = [k[0], k[1], k[2]].map(|axis| cast::<[f32; 4], __m128>(c[axis]));
+        [
+            _mm256_sub_pd(_mm256_cvtps_pd(coord[0]), o[0]),
+            _mm256_sub_pd(_mm256_cvtps_pd(coord[1]), o[1]),
+            _mm256_sub_pd(_mm256_cvtps_pd(coord[2]), o[2]),
+        ]
+    }
+}
+
+/// `x - s * z` (the shear into ray space).
+#[inline(always)]
+fn shear(x: __m256d, s: __m256d, z: __m256d) -> __m256d {
+    // SAFETY: see the file's header.
+    unsafe { _mm256_sub_pd(x, _mm256_mul_pd(s, z)) }
+}
+
+/// `p * q - r * s` (a 2-D edge function, in the scalar test's operand order).
+#[inline(always)]
+fn edge(p: __m256d, q: __m256d, r: __m256d, s: __m256d) -> __m256d {
+    // SAFETY: see the file's header.
+    unsafe { _mm256_sub_pd(_mm256_mul_pd(p, q), _mm256_mul_pd(r, s)) }
+}
+
+/// Lanes where `x < 0` (ordered: false on NaN, like Rust's `<`).
+#[inline(always)]
+fn negative(x: __m256d) -> __m256d {
+    // SAFETY: see the file's header.
+    unsafe { _mm256_cmp_pd::<_CMP_LT_OQ>(x, _mm256_setzero_pd()) }
+}
+
+/// Lanes where `x > 0` (ordered).
+#[inline(always)]
+fn positive(x: __m256d) -> __m256d {
+    // SAFETY: see the file's header.
+    unsafe { _mm256_cmp_pd::<_CMP_GT_OQ>(x, _mm256_setzero_pd()) }
+}
+
 /// The scalar test of `Triangle::intersect` on the block's 4 lanes.
 #[inline(always)]
 fn block_test(b: &TriBlock, r: &PreparedRay, tmax: f32) -> Option<BlockHits> {
     // SAFETY: see the file's header (AVX2 is present wherever this is inlined).
     unsafe {
-        let [kx, ky, kz] = r.k;
-        let o = r.origin64;
-        let (ox, oy, oz) = (_mm256_set1_pd(o[0]), _mm256_set1_pd(o[1]), _mm256_set1_pd(o[2]));
+        let o = [_mm256_set1_pd(r.origin64[0]), _mm256_set1_pd(r.origin64[1]), _mm256_set1_pd(r.origin64[2])];
         let (sx, sy, sz) = (_mm256_set1_pd(r.shear[0]), _mm256_set1_pd(r.shear[1]), _mm256_set1_pd(r.shear[2]));
-        // `p[k] as f64 - o`: f32 → f64 is exact.
-        let coord = |vert: usize, axis: usize| _mm256_cvtps_pd(cast::<[f32; 4], __m128>(b.v[vert][axis]));
-        let rel = |vert: usize| {
-            (_mm256_sub_pd(coord(vert, kx), ox), _mm256_sub_pd(coord(vert, ky), oy), _mm256_sub_pd(coord(vert, kz), oz))
-        };
-        let (a0, a1, a2) = rel(0);
-        let (b0, b1, b2) = rel(1);
-        let (c0, c1, c2) = rel(2);
-        // Shear: `x - s * z`.
-        let shear = |x: __m256d, s: __m256d, z: __m256d| _mm256_sub_pd(x, _mm256_mul_pd(s, z));
+        let [a0, a1, a2] = rel(b, 0, r.k, o);
+        let [b0, b1, b2] = rel(b, 1, r.k, o);
+        let [c0, c1, c2] = rel(b, 2, r.k, o);
         let (ax, ay) = (shear(a0, sx, a2), shear(a1, sy, a2));
         let (bx, by) = (shear(b0, sx, b2), shear(b1, sy, b2));
         let (cx, cy) = (shear(c0, sx, c2), shear(c1, sy, c2));
-        // Edge functions, `p * q - r * s` in the scalar test's operand order.
-        let edge =
-            |p: __m256d, q: __m256d, r: __m256d, s: __m256d| _mm256_sub_pd(_mm256_mul_pd(p, q), _mm256_mul_pd(r, s));
         let eu = edge(cx, by, cy, bx);
         let ev = edge(ax, cy, ay, cx);
         let ew = edge(bx, ay, by, ax);
-        let zero = _mm256_setzero_pd();
-        let lt = |x: __m256d| _mm256_cmp_pd::<_CMP_LT_OQ>(x, zero);
-        let gt = |x: __m256d| _mm256_cmp_pd::<_CMP_GT_OQ>(x, zero);
-        let any_neg = _mm256_or_pd(_mm256_or_pd(lt(eu), lt(ev)), lt(ew));
-        let any_pos = _mm256_or_pd(_mm256_or_pd(gt(eu), gt(ev)), gt(ew));
+        let any_neg = _mm256_or_pd(_mm256_or_pd(negative(eu), negative(ev)), negative(ew));
+        let any_pos = _mm256_or_pd(_mm256_or_pd(positive(eu), positive(ev)), positive(ew));
         let det = _mm256_add_pd(_mm256_add_pd(eu, ev), ew);
-        let reject = _mm256_or_pd(_mm256_and_pd(any_neg, any_pos), _mm256_cmp_pd::<_CMP_EQ_OQ>(det, zero));
+        let reject =
+            _mm256_or_pd(_mm256_and_pd(any_neg, any_pos), _mm256_cmp_pd::<_CMP_EQ_OQ>(det, _mm256_setzero_pd()));
         // Most blocks a ray reaches miss all 4 triangles: stop before the divide.
         if _mm256_movemask_pd(reject) == 0xF {
             return None;

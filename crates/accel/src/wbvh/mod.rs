@@ -192,3 +192,6 @@ impl Accel for Wbvh {
         true
     }
 }
+
+#[cfg(test)]
+mod tests;
