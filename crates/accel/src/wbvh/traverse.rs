@@ -5,7 +5,9 @@
 //! entry points below are the same code compiled with `#[target_feature(enable = "avx2")]`,
 //! so the kernel's intrinsics and the traversal loop inline into one function.
 
-use super::kernel::{BoxRay, Kernel, KernelChoice, Nears, Scalar};
+#[cfg(target_arch = "x86_64")]
+use super::kernel::KernelChoice;
+use super::kernel::{BoxRay, Kernel, Nears, Scalar};
 use super::node::{is_leaf, leaf_blocks, ChildRef, WideNode};
 use super::WideTree;
 use crate::Counter;
@@ -37,24 +39,24 @@ impl<N: WideNode> WideTree<N> {
     #[inline]
     #[allow(unsafe_code)]
     pub(super) fn closest<C: Counter>(&self, ray: &Ray, c: &mut C) -> Hit {
-        match self.kernel {
-            #[cfg(target_arch = "x86_64")]
+        #[cfg(target_arch = "x86_64")]
+        if self.kernel == KernelChoice::Avx2 {
             // SAFETY: `KernelChoice::Avx2` is only chosen when AVX2 was detected.
-            KernelChoice::Avx2 => unsafe { self.closest_avx2(ray, c) },
-            _ => self.closest_sized::<Scalar, C>(ray, c),
+            return unsafe { self.closest_avx2(ray, c) };
         }
+        self.closest_sized::<Scalar, C>(ray, c)
     }
 
     /// Any hit with the kernel chosen at build time.
     #[inline]
     #[allow(unsafe_code)]
     pub(super) fn any<C: Counter>(&self, ray: &Ray, c: &mut C) -> bool {
-        match self.kernel {
-            #[cfg(target_arch = "x86_64")]
+        #[cfg(target_arch = "x86_64")]
+        if self.kernel == KernelChoice::Avx2 {
             // SAFETY: as in `closest`.
-            KernelChoice::Avx2 => unsafe { self.any_avx2(ray, c) },
-            _ => self.any_sized::<Scalar, C>(ray, c),
+            return unsafe { self.any_avx2(ray, c) };
         }
+        self.any_sized::<Scalar, C>(ray, c)
     }
 
     #[cfg(target_arch = "x86_64")]
