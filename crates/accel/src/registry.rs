@@ -10,6 +10,9 @@ pub enum AccelKind {
     Brute,
     /// [`Bvh`](crate::Bvh): binned-SAH bounding volume hierarchy (seed 003).
     Bvh,
+    /// [`Wbvh`](crate::Wbvh): the same SAH tree collapsed to 4- or 8-wide nodes with
+    /// 4-triangle SIMD leaf blocks, default [`WbvhParams`](crate::WbvhParams).
+    Wbvh,
     /// [`Bih`](crate::Bih): Bounding Interval Hierarchy (seed 000), default [`BihParams`](crate::BihParams).
     Bih,
     /// [`Grid`](crate::Grid): uniform grid (seed 002's baseline), default [`GridParams`](crate::GridParams).
@@ -39,6 +42,7 @@ impl AccelKind {
     pub const ALL: &'static [AccelKind] = &[
         AccelKind::Brute,
         AccelKind::Bvh,
+        AccelKind::Wbvh,
         AccelKind::Bih,
         AccelKind::KdTree,
         AccelKind::KdTreeRopes,
@@ -58,6 +62,7 @@ impl AccelKind {
             AccelKind::KdTree => "kdtree",
             AccelKind::KdTreeRopes => "kdtree-ropes",
             AccelKind::Bvh => "bvh",
+            AccelKind::Wbvh => "wbvh",
             AccelKind::Octree => "octree",
             AccelKind::OctreeDescent => "octree-descent",
             AccelKind::Apit => "apit",

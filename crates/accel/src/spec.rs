@@ -9,7 +9,7 @@
 use crate::structure_params::PRESET_KEY;
 use crate::{
     ABuffer, Accel, AccelKind, Apit, ApitParams, Bih, BihParams, Brute, BuildError, Bvh, BvhParams, Grid, GridParams,
-    KdTree, KdTreeParams, KdTreeRopes, Octree, OctreeDescent, OctreeParams, StructureParams,
+    KdTree, KdTreeParams, KdTreeRopes, Octree, OctreeDescent, OctreeParams, StructureParams, Wbvh, WbvhParams,
 };
 use dynray_geom::{TriangleMesh, Vec3};
 use std::fmt;
@@ -64,6 +64,7 @@ impl AccelSpec {
         match kind {
             AccelKind::Brute => names::<BruteParams>(),
             AccelKind::Bvh => names::<BvhParams>(),
+            AccelKind::Wbvh => names::<WbvhParams>(),
             AccelKind::Bih => names::<BihParams>(),
             AccelKind::KdTree | AccelKind::KdTreeRopes => names::<KdTreeParams>(),
             AccelKind::Octree | AccelKind::OctreeDescent => names::<OctreeParams>(),
@@ -77,6 +78,7 @@ impl AccelSpec {
         let own = match kind {
             AccelKind::Brute => BruteParams::KEYS,
             AccelKind::Bvh => BvhParams::KEYS,
+            AccelKind::Wbvh => WbvhParams::KEYS,
             AccelKind::Bih => BihParams::KEYS,
             AccelKind::KdTree | AccelKind::KdTreeRopes => KdTreeParams::KEYS,
             AccelKind::Octree | AccelKind::OctreeDescent => OctreeParams::KEYS,
@@ -99,6 +101,7 @@ impl AccelSpec {
         match self.kind {
             AccelKind::Brute => self.read::<BruteParams>().map(drop),
             AccelKind::Bvh => self.read::<BvhParams>().map(drop),
+            AccelKind::Wbvh => self.read::<WbvhParams>().map(drop),
             AccelKind::Bih => self.read::<BihParams>().map(drop),
             AccelKind::KdTree | AccelKind::KdTreeRopes => self.read::<KdTreeParams>().map(drop),
             AccelKind::Octree | AccelKind::OctreeDescent => self.read::<OctreeParams>().map(drop),
@@ -117,6 +120,7 @@ impl AccelSpec {
                 Box::new(Brute::build(mesh)?)
             }
             AccelKind::Bvh => Box::new(Bvh::build(mesh, &self.read()?)?),
+            AccelKind::Wbvh => Box::new(Wbvh::build(mesh, &self.read()?)?),
             AccelKind::Bih => Box::new(Bih::build(mesh, &self.read()?)?),
             AccelKind::KdTree => Box::new(KdTree::build_with(mesh, &self.read()?)?),
             AccelKind::KdTreeRopes => Box::new(KdTreeRopes::build_with(mesh, &self.read()?)?),

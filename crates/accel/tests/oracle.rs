@@ -62,6 +62,7 @@ macro_rules! oracle_tests {
 oracle_tests!(
     brute: Brute,
     bvh: Bvh,
+    wbvh: Wbvh,
     bih: Bih,
     kdtree: KdTree,
     kdtree_ropes: KdTreeRopes,

@@ -125,12 +125,25 @@ pub(super) struct Built {
 
 /// Builds the BVH of `mesh`.
 pub(super) fn build(mesh: &TriangleMesh, params: &BvhParams) -> Result<Built, BuildError> {
-    build_limited(mesh, params, SAH_DEPTH_LIMIT)
+    build_limited(mesh, params, SAH_DEPTH_LIMIT, 0)
+}
+
+/// [`build`] with the block-cost SAH of wide BVHs: a leaf of `n` triangles costs
+/// `⌈n / 2^block_shift⌉` triangle tests instead of `n`, because the wide BVH tests its
+/// leaves `2^block_shift` triangles at a time (Embree's `sahBlockSize`). `block_shift = 0`
+/// is [`build`] exactly.
+pub(super) fn build_blocks(mesh: &TriangleMesh, params: &BvhParams, block_shift: u32) -> Result<Built, BuildError> {
+    build_limited(mesh, params, SAH_DEPTH_LIMIT, block_shift)
 }
 
 /// [`build`] with median splits from depth `sah_depth_limit` on (tests use small limits:
 /// real meshes whose SAH splits go 64 deep are hard to make in f32).
-fn build_limited(mesh: &TriangleMesh, params: &BvhParams, sah_depth_limit: u32) -> Result<Built, BuildError> {
+fn build_limited(
+    mesh: &TriangleMesh,
+    params: &BvhParams,
+    sah_depth_limit: u32,
+    block_shift: u32,
+) -> Result<Built, BuildError> {
     params.validate()?;
     mesh.validate()?;
     let n = mesh.triangle_count();
@@ -157,7 +170,7 @@ fn build_limited(mesh: &TriangleMesh, params: &BvhParams, sah_depth_limit: u32) 
     let mut scratch = vec![0u32; (2 * n - 1) * 8];
     let slots: &mut [BvhNode] = bytemuck::cast_slice_mut(&mut scratch);
     let (root, rest) = slots.split_at_mut(1);
-    let builder = Builder { params, bins: params.bins as usize, sah_depth_limit };
+    let builder = Builder { params, bins: params.bins as usize, sah_depth_limit, block_shift };
     let (root_node, count) = builder.subtree(&mut refs, 0, bounds, 0, rest, 1);
     root[0] = root_node;
     let (nodes, depth) = compact(slots, count as usize);
@@ -214,9 +227,17 @@ struct Builder<'a> {
     params: &'a BvhParams,
     bins: usize,
     sah_depth_limit: u32,
+    /// Leaves are costed in blocks of `2^block_shift` triangles (0: per triangle).
+    block_shift: u32,
 }
 
 impl Builder<'_> {
+    /// SAH cost of intersecting `n` triangles: `n`, or the number of blocks they fill.
+    #[inline(always)]
+    fn tri_cost(&self, n: u32) -> f32 {
+        ((n + (1 << self.block_shift) - 1) >> self.block_shift) as f32
+    }
+
     /// Builds the subtree over `refs` (triangles `first ..` of the leaf order) and returns
     /// its root node and node count. Its descendants go into `slots`, which has exactly
     /// `2n - 2` entries and starts at global index `base`.
@@ -340,7 +361,7 @@ impl Builder<'_> {
                 if cnt == 0 || right_count[i] == 0 {
                     continue;
                 }
-                let cost = acc.area() * cnt as f32 + right_area[i] * right_count[i] as f32;
+                let cost = acc.area() * self.tri_cost(cnt) + right_area[i] * self.tri_cost(right_count[i]);
                 // Strict `<`: the first axis and plane win ties, so builds are reproducible.
                 if best.is_none_or(|(c, _, _)| cost < c) {
                     best = Some((cost, axis, i));
@@ -357,8 +378,9 @@ impl Builder<'_> {
         // nothing from a split.
         let (kt, ki) = (self.params.traversal_cost, self.params.intersection_cost);
         let area = bounds.aabb().surface_area();
-        let split_cost = if area > 0.0 { kt + ki * cost / area } else { kt + ki * n as f32 };
-        if split_cost > ki * n as f32 && n <= self.params.max_leaf_size as usize {
+        let leaf_cost = ki * self.tri_cost(n as u32);
+        let split_cost = if area > 0.0 { kt + ki * cost / area } else { kt + leaf_cost };
+        if split_cost > leaf_cost && n <= self.params.max_leaf_size as usize {
             return Split::Leaf;
         }
         let (b, c) = (&boxes[axis * k..(axis + 1) * k], &counts[axis * k..(axis + 1) * k]);
@@ -463,7 +485,7 @@ mod tests {
         let p = BvhParams::default();
         let sah = build(&mesh, &p).unwrap();
         for limit in [0, 1, 3] {
-            let b = build_limited(&mesh, &p, limit).unwrap();
+            let b = build_limited(&mesh, &p, limit, 0).unwrap();
             // Median splits halve every node: at most ceil(log2(2000)) = 11 more levels.
             assert!(b.depth <= limit + 11, "limit {limit}: depth {}", b.depth);
             assert_ne!(b.nodes, sah.nodes, "limit {limit} changed nothing");

@@ -51,6 +51,22 @@ impl Bvh {
         Ok(bvh)
     }
 
+    /// [`Bvh::build`] with leaves costed in blocks of `2^block_shift` triangles (the wide
+    /// BVH's leaf blocks; see `build::build_blocks`): the binary tree the wide BVH collapses.
+    pub(crate) fn build_block_cost(
+        mesh: &TriangleMesh,
+        params: &BvhParams,
+        block_shift: u32,
+    ) -> Result<Self, BuildError> {
+        let built = build::build_blocks(mesh, params, block_shift)?;
+        let bvh = Self { nodes: built.nodes, tris: built.tris, ids: built.ids, params: *params, depth: built.depth };
+        #[cfg(debug_assertions)]
+        if let Err(e) = bvh.check_invariants(mesh) {
+            panic!("the builder produced an invalid BVH: {e}");
+        }
+        Ok(bvh)
+    }
+
     /// A tree assembled from arrays built elsewhere (the GPU builders of `dynray-gpu`),
     /// accepted only if it passes every invariant [`Bvh::build`]'s trees do, against `mesh`:
     /// children pairs adjacent and after their parent, every triangle in exactly one leaf,

@@ -1,0 +1,88 @@
+//! From the binary SAH tree to the wide one: each wide node takes the children of a binary
+//! node and keeps opening its largest-area interior child (replacing it by its two
+//! children) until it has `W` children or only leaves (the greedy collapse of Embree's
+//! and tinybvh's wide builders); each binary leaf becomes a run of 4-triangle blocks.
+//!
+//! Boxes are copied from the binary nodes unchanged, so every child box is exactly the
+//! union of what lies below it, as the binary tree's are.
+
+use super::block::TriBlock;
+use super::node::{leaf_ref, WideNode, MAX_BLOCKS};
+use crate::{BuildError, Bvh, BvhNode};
+
+/// A collapsed tree: nodes root first (children after parents), blocks in leaf order.
+pub(super) struct Collapsed<N> {
+    pub nodes: Vec<N>,
+    pub blocks: Vec<TriBlock>,
+    /// Interior levels on the deepest path (the root alone: 1).
+    pub levels: u32,
+}
+
+/// Collapses `bvh` into `W`-wide nodes.
+pub(super) fn collapse<N: WideNode>(bvh: &Bvh) -> Result<Collapsed<N>, BuildError> {
+    let n = bvh.triangles().len();
+    if n.div_ceil(4) + bvh.nodes().len() > MAX_BLOCKS as usize {
+        return Err(BuildError::Limit(format!("{n} triangles: a wide leaf reference addresses {MAX_BLOCKS} blocks")));
+    }
+    let mut c = Collapser {
+        bin: bvh.nodes(),
+        bvh,
+        out: Collapsed { nodes: Vec::with_capacity(bvh.nodes().len() / 4), blocks: Vec::new(), levels: 0 },
+    };
+    c.out.blocks.reserve(n / 3);
+    c.node(0, 1);
+    Ok(c.out)
+}
+
+struct Collapser<'a, N> {
+    bin: &'a [BvhNode],
+    bvh: &'a Bvh,
+    out: Collapsed<N>,
+}
+
+impl<N: WideNode> Collapser<'_, N> {
+    /// Emits the wide node for binary node `b` at interior level `level` (root: 1) and
+    /// returns its index.
+    fn node(&mut self, b: usize, level: u32) -> u32 {
+        let idx = self.out.nodes.len();
+        self.out.nodes.push(N::empty());
+        self.out.levels = self.out.levels.max(level);
+        let bin = self.bin;
+        // A one-leaf tree (few triangles) is a root with a single leaf child.
+        let mut kids = [0usize; 8];
+        let mut len = if bin[b].is_leaf() {
+            kids[0] = b;
+            1
+        } else {
+            kids[0] = bin[b].index as usize;
+            kids[1] = kids[0] + 1;
+            2
+        };
+        while len < N::W {
+            let open = (0..len)
+                .filter(|&k| !bin[kids[k]].is_leaf())
+                .max_by(|&x, &y| bin[kids[x]].bounds().surface_area().total_cmp(&bin[kids[y]].bounds().surface_area()));
+            let Some(k) = open else { break };
+            let l = bin[kids[k]].index as usize;
+            kids[k] = l;
+            kids[len] = l + 1;
+            len += 1;
+        }
+        for &k in &kids[..len] {
+            let r = if bin[k].is_leaf() {
+                let (first, count) = (bin[k].index as usize, bin[k].count as usize);
+                let start = self.out.blocks.len() as u32;
+                TriBlock::pack(
+                    &self.bvh.triangles()[first..first + count],
+                    &self.bvh.triangle_ids()[first..first + count],
+                    &mut self.out.blocks,
+                );
+                leaf_ref(start, self.out.blocks.len() as u32 - start)
+            } else {
+                self.node(k, level + 1)
+            };
+            self.out.nodes[idx].push(r, &bin[k].bounds());
+        }
+        idx as u32
+    }
+}

@@ -1,0 +1,335 @@
+//! The two inner loops of the wide BVH behind one trait: the box test of one node's
+//! children and the triangle test of one leaf block. [`Scalar`] is the specification
+//! (it calls `Triangle::intersect` lane by lane and restates `Aabb::clip` lane by lane);
+//! the AVX2 kernel (`kernel_avx2.rs`) computes the same numbers four or eight at a time,
+//! and the tests below hold both to the same bits.
+
+use super::block::{TriBlock, LANES, PAD_ID};
+use super::node::WideNode;
+use dynray_geom::{Hit, PreparedRay, Ray, SLAB_MARGIN};
+
+/// What the box test needs of a ray: origin and `1 / dir` (as `PreparedRay::inv_dir`).
+#[derive(Clone, Copy, Debug)]
+pub struct BoxRay {
+    /// Ray origin.
+    pub org: [f32; 3],
+    /// Reciprocal direction, ±∞ for a zero component.
+    pub inv: [f32; 3],
+}
+
+impl BoxRay {
+    /// The box constants of `ray`, computed as `PreparedRay::new` computes `inv_dir`.
+    #[inline(always)]
+    pub fn new(ray: &Ray) -> Self {
+        let inv = dynray_geom::Vec3::ONE / ray.dir;
+        Self { org: ray.origin.to_array(), inv: inv.to_array() }
+    }
+}
+
+/// Near distances of a node's children, one lane per child.
+pub type Nears = [f32; 8];
+
+/// The box and block tests, implemented once per instruction set.
+pub trait Kernel {
+    /// Children of `node` whose widened box the ray enters within `[tmin, limit]`, as a
+    /// bit mask over lanes `0..node.count()`, with their entry distances in `near`. The
+    /// same test as `Aabb::clip` lane by lane (see [`Scalar::boxes`]).
+    fn boxes<N: WideNode>(node: &N, r: &BoxRay, tmin: f32, limit: f32, near: &mut Nears) -> u32;
+
+    /// Keeps in `best` the closest hit of `best` and the block's triangles, as
+    /// `Hit::closest_of` does over the same triangles.
+    fn closest(b: &TriBlock, r: &PreparedRay, best: &mut Hit);
+
+    /// True when a triangle of the block is hit within `[tmin, tmax]`.
+    fn any(b: &TriBlock, r: &PreparedRay) -> bool;
+}
+
+/// The portable kernel and the specification: the scalar triangle test on every real lane,
+/// the box test of `Aabb::clip` on every child.
+#[derive(Clone, Copy, Debug)]
+pub struct Scalar;
+
+/// `x`, or `other` when `x` is NaN: the x86 `maxps(x, -∞)` / `minps(x, +∞)` idiom of
+/// the binary BVH's box test, so a NaN slab (origin on the plane, direction parallel)
+/// leaves the ray unconstrained as `Aabb::clip`'s `slab` does.
+#[inline(always)]
+fn or_if_nan(x: f32, other: f32) -> f32 {
+    if x.is_nan() {
+        other
+    } else {
+        x
+    }
+}
+
+impl Kernel for Scalar {
+    #[inline(always)]
+    fn boxes<N: WideNode>(node: &N, r: &BoxRay, tmin: f32, limit: f32, near: &mut Nears) -> u32 {
+        let mut mask = 0;
+        for (i, near_i) in near.iter_mut().enumerate().take(node.count()) {
+            let (mut n, mut f) = (f32::NEG_INFINITY, f32::INFINITY);
+            for a in 0..3 {
+                let t0 = (node.lo(a)[i] - r.org[a]) * r.inv[a];
+                let t1 = (node.hi(a)[i] - r.org[a]) * r.inv[a];
+                let (n0, n1) = (or_if_nan(t0, f32::NEG_INFINITY), or_if_nan(t1, f32::NEG_INFINITY));
+                let (f0, f1) = (or_if_nan(t0, f32::INFINITY), or_if_nan(t1, f32::INFINITY));
+                n = n.max(n0.min(n1));
+                f = f.min(f0.max(f1));
+            }
+            // Widen outwards as `Aabb::clip` does, then clamp to the interval (a NaN
+            // `tmin` or `limit` is ignored, as `f32::max`/`min` ignore it there).
+            let n = n * if n > 0.0 { 1.0 - SLAB_MARGIN } else { 1.0 + SLAB_MARGIN };
+            let f = f * if f > 0.0 { 1.0 + SLAB_MARGIN } else { 1.0 - SLAB_MARGIN };
+            let n = if tmin > n { tmin } else { n };
+            let f = if limit < f { limit } else { f };
+            *near_i = n;
+            mask |= ((n <= f) as u32) << i;
+        }
+        mask
+    }
+
+    #[inline(always)]
+    fn closest(b: &TriBlock, r: &PreparedRay, best: &mut Hit) {
+        let tris: [_; LANES] = std::array::from_fn(|l| b.triangle(l));
+        best.closest_of(r, tris.iter().zip(b.ids).filter(|&(_, id)| id != PAD_ID));
+    }
+
+    #[inline(always)]
+    fn any(b: &TriBlock, r: &PreparedRay) -> bool {
+        (0..LANES).any(|l| !b.is_pad(l) && b.triangle(l).intersect(r, r.ray.tmax).is_some())
+    }
+}
+
+/// Which kernel a tree traverses with, chosen once at build time.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum KernelChoice {
+    /// [`Scalar`]: any CPU.
+    Scalar,
+    /// AVX2 (x86-64 with AVX2 detected at run time; never chosen elsewhere).
+    #[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
+    Avx2,
+}
+
+/// The environment variable that forces the scalar kernel (`DYNRAY_FORCE_SCALAR=1`), so a
+/// CI run on an AVX2 machine tests the fallback too.
+pub const FORCE_SCALAR_ENV: &str = "DYNRAY_FORCE_SCALAR";
+
+impl KernelChoice {
+    /// The fastest kernel this CPU runs, unless `scalar` or [`FORCE_SCALAR_ENV`] say otherwise.
+    pub fn detect(scalar: bool) -> Self {
+        let forced = std::env::var_os(FORCE_SCALAR_ENV).is_some_and(|v| v != "0" && !v.is_empty());
+        if scalar || forced {
+            return KernelChoice::Scalar;
+        }
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            return KernelChoice::Avx2;
+        }
+        KernelChoice::Scalar
+    }
+
+    /// As `stats` prints it.
+    pub fn name(self) -> &'static str {
+        match self {
+            KernelChoice::Scalar => "scalar",
+            KernelChoice::Avx2 => "avx2",
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::wbvh::node::{Node4, Node8};
+    use dynray_geom::{Aabb, Triangle, Vec3};
+    use rand::{rngs::SmallRng, Rng, SeedableRng};
+
+    /// A triangle from a mix of random, shared and degenerate vertices, so ties, shared
+    /// edges, zero-area and huge triangles all occur.
+    fn adversarial_triangle(rng: &mut SmallRng, shared: &[Vec3]) -> Triangle {
+        let pick = |rng: &mut SmallRng| match rng.gen_range(0..6) {
+            0..=2 => shared[rng.gen_range(0..shared.len())],
+            3 => Vec3::new(rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0)),
+            4 => Vec3::new(rng.gen_range(-1e6..1e6), rng.gen_range(-1.0..1.0), rng.gen_range(-1e-6..1e-6)),
+            _ => Vec3::splat(rng.gen_range(-1i32..=1) as f32),
+        };
+        let p0 = pick(rng);
+        let p1 = if rng.gen_bool(0.1) { p0 } else { pick(rng) };
+        Triangle::new(p0, p1, pick(rng))
+    }
+
+    fn ray(rng: &mut SmallRng, shared: &[Vec3]) -> Ray {
+        let o = Vec3::new(rng.gen_range(-3.0..3.0), rng.gen_range(-3.0..3.0), rng.gen_range(-3.0..3.0));
+        // Aim at a shared vertex (edge and vertex hits, ties) or along an axis.
+        let d = match rng.gen_range(0..4) {
+            0 | 1 => shared[rng.gen_range(0..shared.len())] - o,
+            2 => [Vec3::X, Vec3::NEG_Y, Vec3::Z][rng.gen_range(0..3)],
+            _ => Vec3::new(rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0)),
+        };
+        let tmin = [0.0, -1.0, f32::NEG_INFINITY, 0.5][rng.gen_range(0..4)];
+        let tmax = [f32::INFINITY, 1.0, 2.0, 0.0][rng.gen_range(0..4)];
+        Ray::with_interval(o, d, tmin, tmax)
+    }
+
+    /// Runs `check` on blocks of random and adversarial triangles (some blocks padded)
+    /// and rays aimed at their shared vertices.
+    fn for_blocks(mut check: impl FnMut(&TriBlock, &[Triangle], &[u32], &Ray)) {
+        let mut rng = SmallRng::seed_from_u64(41);
+        let shared: Vec<Vec3> = (0..6)
+            .map(|_| Vec3::new(rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0)))
+            .chain([Vec3::ZERO, Vec3::X, Vec3::Y])
+            .collect();
+        for i in 0..40_000 {
+            let n = 1 + i % LANES;
+            let mut tris: Vec<Triangle> = (0..n).map(|_| adversarial_triangle(&mut rng, &shared)).collect();
+            if i % 7 == 0 && n > 1 {
+                // The same triangle twice: equal `t`, the lower id must win.
+                tris[n - 1] = tris[0];
+            }
+            let ids: Vec<u32> = (0..n as u32).map(|k| [k * 3, 100 - k, 7 + k][i % 3]).collect();
+            let mut blocks = Vec::new();
+            TriBlock::pack(&tris, &ids, &mut blocks);
+            for _ in 0..4 {
+                check(&blocks[0], &tris, &ids, &ray(&mut rng, &shared));
+            }
+        }
+    }
+
+    /// The spec: `Hit::closest_of` over the triangles in order, starting from `start`.
+    fn spec_closest(tris: &[Triangle], ids: &[u32], r: &PreparedRay, start: Hit) -> Hit {
+        let mut h = start;
+        h.closest_of(r, tris.iter().zip(ids.iter().copied()));
+        h
+    }
+
+    fn starts(r: &Ray) -> [Hit; 3] {
+        [Hit::MISS, Hit { t: 1.0, u: 0.5, v: 0.25, prim: 50 }, Hit { t: r.tmax.min(3.0), u: 0.0, v: 0.0, prim: 0 }]
+    }
+
+    fn same(a: &Hit, b: &Hit) -> bool {
+        a.same_as(b) && a.u.to_bits() == b.u.to_bits() && a.v.to_bits() == b.v.to_bits()
+    }
+
+    #[test]
+    fn scalar_block_is_the_scalar_test() {
+        let mut hits = 0;
+        for_blocks(|b, tris, ids, ray| {
+            let r = PreparedRay::new(ray);
+            for start in starts(ray) {
+                let mut got = start;
+                Scalar::closest(b, &r, &mut got);
+                let want = spec_closest(tris, ids, &r, start);
+                assert!(same(&got, &want), "{tris:?} {ray:?}: {got:?} vs {want:?}");
+                hits += (want.prim != start.prim) as u32;
+            }
+            let any = tris.iter().any(|t| t.intersect(&r, ray.tmax).is_some());
+            assert_eq!(Scalar::any(b, &r), any, "{tris:?} {ray:?}");
+        });
+        // The sets must exercise hits, not only misses.
+        assert!(hits > 10_000, "{hits} hits");
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn avx2_block_is_bit_identical_to_the_scalar_test() {
+        use super::super::kernel_avx2::Avx2;
+        if !std::arch::is_x86_feature_detected!("avx2") {
+            eprintln!("skipped: this CPU has no AVX2");
+            return;
+        }
+        let mut hits = 0;
+        for_blocks(|b, tris, ids, ray| {
+            let r = PreparedRay::new(ray);
+            for start in starts(ray) {
+                let got = Avx2::closest_checked(b, &r, start);
+                let want = spec_closest(tris, ids, &r, start);
+                assert!(same(&got, &want), "{tris:?} {ray:?}: {got:?} vs {want:?}");
+                hits += (want.prim != start.prim) as u32;
+            }
+            let any = tris.iter().any(|t| t.intersect(&r, ray.tmax).is_some());
+            assert_eq!(Avx2::any_checked(b, &r), any, "{tris:?} {ray:?}");
+        });
+        assert!(hits > 10_000, "{hits} hits");
+    }
+
+    #[test]
+    fn pad_lanes_never_hit() {
+        let mut rng = SmallRng::seed_from_u64(3);
+        let shared = [Vec3::ZERO, Vec3::X, Vec3::Y];
+        let pad = TriBlock::PAD;
+        for _ in 0..20_000 {
+            let mut ray = ray(&mut rng, &shared);
+            ray.tmin = f32::NEG_INFINITY;
+            ray.tmax = f32::INFINITY;
+            let r = PreparedRay::new(&ray);
+            // The scalar test on the NaN triangle itself: what the SIMD lanes compute.
+            assert_eq!(pad.triangle(0).intersect(&r, f32::INFINITY), None);
+            #[cfg(target_arch = "x86_64")]
+            if std::arch::is_x86_feature_detected!("avx2") {
+                use super::super::kernel_avx2::Avx2;
+                assert!(!Avx2::any_checked(&pad, &r));
+                assert!(!Avx2::closest_checked(&pad, &r, Hit::MISS).is_hit());
+            }
+        }
+    }
+
+    /// Random boxes on a small integer grid (so rays start on box planes and run parallel
+    /// to them, where slabs are NaN) through both kernels and `Aabb::clip`.
+    fn check_boxes<N: WideNode>(kernel_boxes: impl Fn(&N, &BoxRay, f32, f32, &mut Nears) -> u32) {
+        let mut rng = SmallRng::seed_from_u64(5);
+        let grid = |rng: &mut SmallRng| {
+            Vec3::new(rng.gen_range(-3..=3) as f32, rng.gen_range(-3..=3) as f32, rng.gen_range(-3..=3) as f32)
+        };
+        for i in 0..30_000 {
+            let mut node = N::empty();
+            let mut boxes = Vec::new();
+            for _ in 0..(1 + i % N::W) {
+                let (a, b) = (grid(&mut rng), grid(&mut rng));
+                let bx = Aabb::new(a.min(b), a.max(b));
+                node.push(boxes.len() as u32, &bx);
+                boxes.push(bx);
+            }
+            let (o, d) = if i % 2 == 0 {
+                let d = grid(&mut rng);
+                (grid(&mut rng), if d == Vec3::ZERO { Vec3::X } else { d })
+            } else {
+                let v = |rng: &mut SmallRng| {
+                    Vec3::new(rng.gen_range(-4.0..4.0), rng.gen_range(-4.0..4.0), rng.gen_range(-4.0..4.0))
+                };
+                (v(&mut rng), v(&mut rng))
+            };
+            let tmin = [0.0, -1.0, f32::NEG_INFINITY, 0.5][i % 4];
+            let limit = [f32::INFINITY, 1.0, 3.0, 0.25][(i / 4) % 4];
+            let ray = Ray::with_interval(o, d, tmin, limit);
+            let pr = PreparedRay::new(&ray);
+            let mut near = [0.0; 8];
+            let mask = kernel_boxes(&node, &BoxRay::new(&ray), tmin, limit, &mut near);
+            for (k, bx) in boxes.iter().enumerate() {
+                let want = bx.clip(&pr, tmin, limit);
+                assert_eq!(mask >> k & 1 == 1, want.is_some(), "box {bx:?} ray {ray:?}");
+                if let Some((n, _)) = want {
+                    // Equal as numbers (-0 and +0 may differ; entry distances are only compared).
+                    assert_eq!(near[k], n, "box {bx:?} ray {ray:?}");
+                }
+            }
+            assert_eq!(mask >> boxes.len(), 0, "unused lanes must never be entered");
+        }
+    }
+
+    #[test]
+    fn scalar_box_test_matches_aabb_clip() {
+        check_boxes::<Node4>(Scalar::boxes);
+        check_boxes::<Node8>(Scalar::boxes);
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn avx2_box_test_matches_aabb_clip() {
+        use super::super::kernel_avx2::Avx2;
+        if !std::arch::is_x86_feature_detected!("avx2") {
+            eprintln!("skipped: this CPU has no AVX2");
+            return;
+        }
+        check_boxes::<Node4>(Avx2::boxes_checked);
+        check_boxes::<Node8>(Avx2::boxes_checked);
+    }
+}

@@ -1,0 +1,250 @@
+//! The AVX2 kernel: the f64 watertight test on the 4 triangles of a block at once
+//! (`__m256d`), and the box test of 4 (`__m128`) or 8 (`__m256`) children at once.
+//!
+//! Bit-identical to [`super::kernel::Scalar`] by construction: every lane performs the
+//! scalar test's IEEE operations in the scalar test's order (`sub`, `mul`, `add`, `div`,
+//! correctly rounded in both; Rust never contracts `a * b - c` into an FMA, and this file
+//! uses no FMA intrinsic), the f64 → f32 conversion rounds to nearest as `as f32` does,
+//! and the comparisons are the ordered (`_OQ`) ones, false on NaN like Rust's `<`.
+//! `maxps(x, -∞)` / `minps(x, +∞)` return the second operand on NaN, which is the scalar
+//! kernel's `or_if_nan`. The tests in kernel.rs compare both on adversarial inputs.
+//!
+//! Safety: the functions here are `#[inline(always)]` bodies that only the
+//! `#[target_feature(enable = "avx2")]` entry points of traverse.rs inline, and those are
+//! only called when `is_x86_feature_detected!("avx2")` held ([`super::kernel::KernelChoice`]).
+//! Loads and stores go through `bytemuck::cast` of `[f32; N]` arrays, never raw pointers.
+#![allow(unsafe_code)]
+
+use super::block::TriBlock;
+use super::kernel::{BoxRay, Kernel, Nears};
+use super::node::WideNode;
+use bytemuck::cast;
+use dynray_geom::{Hit, PreparedRay, SLAB_MARGIN};
+use std::arch::x86_64::*;
+
+/// The AVX2 kernel.
+#[derive(Clone, Copy, Debug)]
+pub struct Avx2;
+
+/// Lane results of one block test: lanes that hit within `[tmin, tmax]`, and their
+/// `t`, `u`, `v`.
+struct BlockHits {
+    mask: u32,
+    t: [f32; 4],
+    u: [f32; 4],
+    v: [f32; 4],
+}
+
+// The helpers below are `#[inline(always)]` functions, not closures: a closure is a
+// function of its own without AVX2 enabled, which LLVM left out of line (three calls per
+// block, measured in the disassembly), and then the intrinsics inside it are calls too.
+
+/// Vertex `vert` of the 4 lanes relative to the origin, in the ray's axis order:
+/// `p[k] as f64 - o` (f32 → f64 is exact).
+#[inline(always)]
+fn rel(b: &TriBlock, vert: usize, k: [usize; 3], o: [__m256d; 3]) -> [__m256d; 3] {
+    // SAFETY: see the file's header (AVX2 is present wherever this is inlined).
+    unsafe {
+        let c = &b.v[vert];
+        let coord = [k[0], k[1], k[2]].map(|axis| cast::<[f32; 4], __m128>(c[axis]));
+        [
+            _mm256_sub_pd(_mm256_cvtps_pd(coord[0]), o[0]),
+            _mm256_sub_pd(_mm256_cvtps_pd(coord[1]), o[1]),
+            _mm256_sub_pd(_mm256_cvtps_pd(coord[2]), o[2]),
+        ]
+    }
+}
+
+/// `x - s * z` (the shear into ray space).
+#[inline(always)]
+fn shear(x: __m256d, s: __m256d, z: __m256d) -> __m256d {
+    // SAFETY: see the file's header.
+    unsafe { _mm256_sub_pd(x, _mm256_mul_pd(s, z)) }
+}
+
+/// `p * q - r * s` (a 2-D edge function, in the scalar test's operand order).
+#[inline(always)]
+fn edge(p: __m256d, q: __m256d, r: __m256d, s: __m256d) -> __m256d {
+    // SAFETY: see the file's header.
+    unsafe { _mm256_sub_pd(_mm256_mul_pd(p, q), _mm256_mul_pd(r, s)) }
+}
+
+/// Lanes where `x < 0` (ordered: false on NaN, like Rust's `<`).
+#[inline(always)]
+fn negative(x: __m256d) -> __m256d {
+    // SAFETY: see the file's header.
+    unsafe { _mm256_cmp_pd::<_CMP_LT_OQ>(x, _mm256_setzero_pd()) }
+}
+
+/// Lanes where `x > 0` (ordered).
+#[inline(always)]
+fn positive(x: __m256d) -> __m256d {
+    // SAFETY: see the file's header.
+    unsafe { _mm256_cmp_pd::<_CMP_GT_OQ>(x, _mm256_setzero_pd()) }
+}
+
+/// The scalar test of `Triangle::intersect` on the block's 4 lanes.
+#[inline(always)]
+fn block_test(b: &TriBlock, r: &PreparedRay, tmax: f32) -> Option<BlockHits> {
+    // SAFETY: see the file's header (AVX2 is present wherever this is inlined).
+    unsafe {
+        let o = [_mm256_set1_pd(r.origin64[0]), _mm256_set1_pd(r.origin64[1]), _mm256_set1_pd(r.origin64[2])];
+        let (sx, sy, sz) = (_mm256_set1_pd(r.shear[0]), _mm256_set1_pd(r.shear[1]), _mm256_set1_pd(r.shear[2]));
+        let [a0, a1, a2] = rel(b, 0, r.k, o);
+        let [b0, b1, b2] = rel(b, 1, r.k, o);
+        let [c0, c1, c2] = rel(b, 2, r.k, o);
+        let (ax, ay) = (shear(a0, sx, a2), shear(a1, sy, a2));
+        let (bx, by) = (shear(b0, sx, b2), shear(b1, sy, b2));
+        let (cx, cy) = (shear(c0, sx, c2), shear(c1, sy, c2));
+        let eu = edge(cx, by, cy, bx);
+        let ev = edge(ax, cy, ay, cx);
+        let ew = edge(bx, ay, by, ax);
+        let any_neg = _mm256_or_pd(_mm256_or_pd(negative(eu), negative(ev)), negative(ew));
+        let any_pos = _mm256_or_pd(_mm256_or_pd(positive(eu), positive(ev)), positive(ew));
+        let det = _mm256_add_pd(_mm256_add_pd(eu, ev), ew);
+        let reject =
+            _mm256_or_pd(_mm256_and_pd(any_neg, any_pos), _mm256_cmp_pd::<_CMP_EQ_OQ>(det, _mm256_setzero_pd()));
+        // Most blocks a ray reaches miss all 4 triangles: stop before the divide.
+        if _mm256_movemask_pd(reject) == 0xF {
+            return None;
+        }
+        let tt = _mm256_mul_pd(
+            _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(eu, a2), _mm256_mul_pd(ev, b2)), _mm256_mul_pd(ew, c2)),
+            sz,
+        );
+        let rcp = _mm256_div_pd(_mm256_set1_pd(1.0), det);
+        let t = _mm256_cvtpd_ps(_mm256_mul_pd(tt, rcp));
+        let inside = _mm_and_ps(
+            _mm_cmp_ps::<_CMP_GE_OQ>(t, _mm_set1_ps(r.ray.tmin)),
+            _mm_cmp_ps::<_CMP_LE_OQ>(t, _mm_set1_ps(tmax)),
+        );
+        let mask = (_mm_movemask_ps(inside) as u32) & !(_mm256_movemask_pd(reject) as u32);
+        if mask == 0 {
+            return None;
+        }
+        let u = _mm256_cvtpd_ps(_mm256_mul_pd(ev, rcp));
+        let v = _mm256_cvtpd_ps(_mm256_mul_pd(ew, rcp));
+        Some(BlockHits { mask, t: cast(t), u: cast(u), v: cast(v) })
+    }
+}
+
+/// Widens near (`far == false`) or far distances outwards by [`SLAB_MARGIN`], as
+/// `Aabb::clip`: `x * (1 ∓ m)` by the sign of `x`.
+macro_rules! widen {
+    ($cmp:ident, $blend:ident, $set1:ident, $mul:ident, $zero:expr, $x:expr, $pos:expr, $neg:expr) => {{
+        let x = $x;
+        let positive = $cmp::<_CMP_GT_OQ>(x, $zero);
+        $mul(x, $blend($set1($neg), $set1($pos), positive))
+    }};
+}
+
+impl Kernel for Avx2 {
+    #[inline(always)]
+    fn boxes<N: WideNode>(node: &N, r: &BoxRay, tmin: f32, limit: f32, near: &mut Nears) -> u32 {
+        let valid = (1u32 << node.count()) - 1;
+        // SAFETY: see the file's header.
+        unsafe {
+            if N::W == 8 {
+                let load = |s: &[f32]| cast::<[f32; 8], __m256>(s.try_into().expect("8 lanes"));
+                let (ninf, pinf) = (_mm256_set1_ps(f32::NEG_INFINITY), _mm256_set1_ps(f32::INFINITY));
+                let (mut n, mut f) = (ninf, pinf);
+                for a in 0..3 {
+                    let (o, inv) = (_mm256_set1_ps(r.org[a]), _mm256_set1_ps(r.inv[a]));
+                    let t0 = _mm256_mul_ps(_mm256_sub_ps(load(node.lo(a)), o), inv);
+                    let t1 = _mm256_mul_ps(_mm256_sub_ps(load(node.hi(a)), o), inv);
+                    let near_a = _mm256_min_ps(_mm256_max_ps(t0, ninf), _mm256_max_ps(t1, ninf));
+                    let far_a = _mm256_max_ps(_mm256_min_ps(t0, pinf), _mm256_min_ps(t1, pinf));
+                    n = _mm256_max_ps(n, near_a);
+                    f = _mm256_min_ps(f, far_a);
+                }
+                let zero = _mm256_setzero_ps();
+                let (lo_m, hi_m) = (1.0 - SLAB_MARGIN, 1.0 + SLAB_MARGIN);
+                let n = widen!(_mm256_cmp_ps, _mm256_blendv_ps, _mm256_set1_ps, _mm256_mul_ps, zero, n, lo_m, hi_m);
+                let f = widen!(_mm256_cmp_ps, _mm256_blendv_ps, _mm256_set1_ps, _mm256_mul_ps, zero, f, hi_m, lo_m);
+                // `maxps(tmin, n)` = `tmin > n ? tmin : n`; `minps(limit, f)` = `limit < f ? limit : f`.
+                let n = _mm256_max_ps(_mm256_set1_ps(tmin), n);
+                let f = _mm256_min_ps(_mm256_set1_ps(limit), f);
+                *near = cast(n);
+                (_mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(n, f)) as u32) & valid
+            } else {
+                debug_assert_eq!(N::W, 4);
+                let load = |s: &[f32]| cast::<[f32; 4], __m128>(s.try_into().expect("4 lanes"));
+                let (ninf, pinf) = (_mm_set1_ps(f32::NEG_INFINITY), _mm_set1_ps(f32::INFINITY));
+                let (mut n, mut f) = (ninf, pinf);
+                for a in 0..3 {
+                    let (o, inv) = (_mm_set1_ps(r.org[a]), _mm_set1_ps(r.inv[a]));
+                    let t0 = _mm_mul_ps(_mm_sub_ps(load(node.lo(a)), o), inv);
+                    let t1 = _mm_mul_ps(_mm_sub_ps(load(node.hi(a)), o), inv);
+                    let near_a = _mm_min_ps(_mm_max_ps(t0, ninf), _mm_max_ps(t1, ninf));
+                    let far_a = _mm_max_ps(_mm_min_ps(t0, pinf), _mm_min_ps(t1, pinf));
+                    n = _mm_max_ps(n, near_a);
+                    f = _mm_min_ps(f, far_a);
+                }
+                let zero = _mm_setzero_ps();
+                let (lo_m, hi_m) = (1.0 - SLAB_MARGIN, 1.0 + SLAB_MARGIN);
+                let n = widen!(_mm_cmp_ps, _mm_blendv_ps, _mm_set1_ps, _mm_mul_ps, zero, n, lo_m, hi_m);
+                let f = widen!(_mm_cmp_ps, _mm_blendv_ps, _mm_set1_ps, _mm_mul_ps, zero, f, hi_m, lo_m);
+                let n = _mm_max_ps(_mm_set1_ps(tmin), n);
+                let f = _mm_min_ps(_mm_set1_ps(limit), f);
+                let n4: [f32; 4] = cast(n);
+                near[..4].copy_from_slice(&n4);
+                (_mm_movemask_ps(_mm_cmp_ps::<_CMP_LE_OQ>(n, f)) as u32) & valid
+            }
+        }
+    }
+
+    #[inline(always)]
+    fn closest(b: &TriBlock, r: &PreparedRay, best: &mut Hit) {
+        let Some(h) = block_test(b, r, best.t.min(r.ray.tmax)) else { return };
+        let mut m = h.mask;
+        while m != 0 {
+            let l = m.trailing_zeros() as usize;
+            m &= m - 1;
+            // `is_closer` is a strict order on (t, id), so lane order does not matter.
+            if Hit::is_closer(h.t[l], b.ids[l], best) {
+                *best = Hit { t: h.t[l], u: h.u[l], v: h.v[l], prim: b.ids[l] };
+            }
+        }
+    }
+
+    #[inline(always)]
+    fn any(b: &TriBlock, r: &PreparedRay) -> bool {
+        block_test(b, r, r.ray.tmax).is_some()
+    }
+}
+
+/// Entry points for the tests, compiled with AVX2 so the kernels inline as they do in
+/// traversal. Callers check `is_x86_feature_detected!("avx2")` first.
+#[cfg(test)]
+impl Avx2 {
+    pub(super) fn closest_checked(b: &TriBlock, r: &PreparedRay, start: Hit) -> Hit {
+        #[target_feature(enable = "avx2")]
+        fn go(b: &TriBlock, r: &PreparedRay, mut h: Hit) -> Hit {
+            Avx2::closest(b, r, &mut h);
+            h
+        }
+        assert!(std::arch::is_x86_feature_detected!("avx2"));
+        // SAFETY: AVX2 checked on the line above.
+        unsafe { go(b, r, start) }
+    }
+
+    pub(super) fn any_checked(b: &TriBlock, r: &PreparedRay) -> bool {
+        #[target_feature(enable = "avx2")]
+        fn go(b: &TriBlock, r: &PreparedRay) -> bool {
+            Avx2::any(b, r)
+        }
+        assert!(std::arch::is_x86_feature_detected!("avx2"));
+        // SAFETY: AVX2 checked on the line above.
+        unsafe { go(b, r) }
+    }
+
+    pub(super) fn boxes_checked<N: WideNode>(node: &N, r: &BoxRay, tmin: f32, limit: f32, near: &mut Nears) -> u32 {
+        #[target_feature(enable = "avx2")]
+        fn go<N: WideNode>(node: &N, r: &BoxRay, tmin: f32, limit: f32, near: &mut Nears) -> u32 {
+            Avx2::boxes(node, r, tmin, limit, near)
+        }
+        assert!(std::arch::is_x86_feature_detected!("avx2"));
+        // SAFETY: AVX2 checked on the line above.
+        unsafe { go(node, r, tmin, limit, near) }
+    }
+}

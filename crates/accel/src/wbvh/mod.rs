@@ -1,0 +1,197 @@
+//! The wide BVH: the binned-SAH binary tree (optionally built with Embree's block cost)
+//! collapsed into 4- or 8-wide nodes with SoA child boxes, leaves of 4-triangle SoA
+//! blocks, and an f64×4 block test that is bit-identical to the scalar triangle test.
+//!
+//! Files: [`params`] (presets), [`node`] (node layout and child references), `block.rs`
+//! (leaf blocks and their padding), `collapse.rs` (binary → wide), `kernel.rs` (the
+//! scalar specification and kernel choice), `kernel_avx2.rs` (the AVX2 kernel),
+//! `traverse.rs`, `refit.rs`, `validate.rs`.
+//!
+//! The binary `bvh` stays what the GPU backend uploads; this structure is the CPU's fast
+//! path. Figures and what did not pay: docs/structures.md, "The wide BVH".
+
+mod block;
+mod collapse;
+mod kernel;
+#[cfg(target_arch = "x86_64")]
+mod kernel_avx2;
+pub mod node;
+pub mod params;
+mod refit;
+mod traverse;
+mod validate;
+
+pub use block::TriBlock;
+pub use kernel::FORCE_SCALAR_ENV;
+pub use node::{Node4, Node8, WideNode};
+pub use params::WbvhParams;
+pub use validate::InvalidWbvh;
+
+use crate::{Accel, AccelStats, BuildError, Bvh, InvalidStructure, NoCount, TraversalCounts};
+use dynray_geom::{Hit, Ray, TriangleMesh};
+use kernel::KernelChoice;
+
+/// A wide BVH over one mesh, 4 or 8 children per node ([`WbvhParams::width`]).
+#[derive(Clone, Debug)]
+pub struct Wbvh {
+    tree: Tree,
+    params: WbvhParams,
+}
+
+/// The tree at its width: one match per query picks the monomorphised traversal.
+#[derive(Clone, Debug)]
+enum Tree {
+    W4(WideTree<Node4>),
+    W8(WideTree<Node8>),
+}
+
+/// The arrays of a `W`-wide tree.
+#[derive(Clone, Debug)]
+struct WideTree<N> {
+    /// Root first; a node's interior children come after it.
+    nodes: Vec<N>,
+    /// Leaf blocks; a leaf's blocks are contiguous.
+    blocks: Vec<TriBlock>,
+    /// Interior levels on the deepest path (root alone: 1).
+    levels: u32,
+    /// Traversal stack entries this tree can need (`traverse::stack_need`).
+    stack_need: usize,
+    /// The kernel chosen at build time.
+    kernel: KernelChoice,
+}
+
+impl<N: WideNode> WideTree<N> {
+    fn build(bvh: &Bvh, kernel: KernelChoice) -> Result<Self, BuildError> {
+        let c = collapse::collapse::<N>(bvh)?;
+        let stack_need = traverse::stack_need(c.levels, N::W);
+        Ok(Self { nodes: c.nodes, blocks: c.blocks, levels: c.levels, stack_need, kernel })
+    }
+}
+
+/// Runs `$body` with `$t` bound to the tree at its width.
+macro_rules! with_tree {
+    ($self:expr, $t:ident => $body:expr) => {
+        match &$self.tree {
+            Tree::W4($t) => $body,
+            Tree::W8($t) => $body,
+        }
+    };
+}
+
+impl Wbvh {
+    /// Builds the tree over `mesh`: binary SAH build (block cost unless
+    /// `params.block_cost` is off), then the collapse. Errors on invalid parameters, an
+    /// invalid mesh, or more triangles than the references address.
+    pub fn build(mesh: &TriangleMesh, params: &WbvhParams) -> Result<Self, BuildError> {
+        use crate::StructureParams;
+        params.validate()?;
+        let shift = if params.block_cost { 2 } else { 0 };
+        let bvh = Bvh::build_block_cost(mesh, &params.bvh, shift)?;
+        let kernel = KernelChoice::detect(params.scalar);
+        let tree = match params.width {
+            4 => Tree::W4(WideTree::build(&bvh, kernel)?),
+            _ => Tree::W8(WideTree::build(&bvh, kernel)?),
+        };
+        let w = Self { tree, params: *params };
+        #[cfg(debug_assertions)]
+        if let Err(e) = w.check_invariants(mesh) {
+            panic!("the builder produced an invalid wide BVH: {e}");
+        }
+        Ok(w)
+    }
+
+    /// The parameters of the build.
+    pub fn params(&self) -> &WbvhParams {
+        &self.params
+    }
+
+    /// The triangle kernel in use: `"avx2"` or `"scalar"`.
+    pub fn kernel(&self) -> &'static str {
+        with_tree!(self, t => t.kernel.name())
+    }
+
+    /// Children per node.
+    pub fn width(&self) -> usize {
+        match self.tree {
+            Tree::W4(_) => 4,
+            Tree::W8(_) => 8,
+        }
+    }
+
+    /// Checks every invariant traversal relies on against `mesh` (see validate.rs).
+    pub fn check_invariants(&self, mesh: &TriangleMesh) -> Result<validate::WbvhShape, InvalidWbvh> {
+        with_tree!(self, t => t.check(mesh))
+    }
+}
+
+impl Accel for Wbvh {
+    fn name(&self) -> &'static str {
+        "wbvh"
+    }
+
+    fn intersect(&self, ray: &Ray) -> Hit {
+        with_tree!(self, t => t.closest(ray, &mut NoCount))
+    }
+
+    fn occluded(&self, ray: &Ray) -> bool {
+        with_tree!(self, t => t.any(ray, &mut NoCount))
+    }
+
+    /// Counts interior nodes visited and triangle lanes tested (4 per block, padding
+    /// included: the work the kernel does).
+    fn intersect_counted(&self, ray: &Ray, counts: &mut TraversalCounts) -> Hit {
+        with_tree!(self, t => t.closest(ray, counts))
+    }
+
+    fn memory_bytes(&self) -> usize {
+        with_tree!(self, t => t.nodes.len() * std::mem::size_of_val(&t.nodes[0]) + t.blocks.len() * std::mem::size_of::<TriBlock>())
+    }
+
+    fn stats(&self) -> AccelStats {
+        let (shape, mut extra) = match with_tree!(self, t => t.shape()) {
+            Ok(s) => (s, Vec::new()),
+            Err(e) => (validate::WbvhShape::default(), vec![("invalid".to_string(), e.to_string())]),
+        };
+        extra.push(("width".into(), self.width().to_string()));
+        extra.push(("kernel".into(), self.kernel().into()));
+        extra.push(("interior_nodes".into(), shape.interior.to_string()));
+        extra.push(("blocks".into(), shape.blocks.to_string()));
+        extra.push(("filled_lanes".into(), format!("{:.1} %", 100.0 * shape.fill())));
+        extra.push(("block_cost".into(), if self.params.block_cost { "on" } else { "off" }.into()));
+        AccelStats {
+            nodes: shape.interior + shape.leaves,
+            leaves: shape.leaves,
+            max_depth: shape.levels,
+            primitive_refs: shape.triangles,
+            leaf_sizes: shape.leaf_sizes.clone(),
+            sah_cost: shape.sah_cost,
+            memory_bytes: self.memory_bytes(),
+            extra,
+        }
+    }
+
+    fn validate(&self, mesh: &TriangleMesh) -> Result<AccelStats, InvalidStructure> {
+        self.check_invariants(mesh).map_err(|e| InvalidStructure::new(self.name(), e))?;
+        Ok(self.stats())
+    }
+
+    /// A refit: same tree, boxes and blocks recomputed from the moved vertices (refit.rs).
+    fn update(&mut self, mesh: &TriangleMesh) -> Result<(), BuildError> {
+        match &mut self.tree {
+            Tree::W4(t) => t.refit(mesh)?,
+            Tree::W8(t) => t.refit(mesh)?,
+        }
+        #[cfg(debug_assertions)]
+        if let Err(e) = self.check_invariants(mesh) {
+            panic!("refit produced an invalid wide BVH: {e}");
+        }
+        Ok(())
+    }
+
+    fn update_refits(&self) -> bool {
+        true
+    }
+}
+
+#[cfg(test)]
+mod tests;

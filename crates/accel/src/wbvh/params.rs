@@ -1,0 +1,138 @@
+//! Build parameters of the wide BVH: the width, the binary builder's settings and cost
+//! model, and the kernel, with presets.
+
+use crate::structure_params::{out_of_range, unknown_key, value, ParamKey, StructureParams};
+use crate::{BuildError, BvhParams};
+
+/// How a [`super::Wbvh`] is built and traversed. Every field documents its useful range;
+/// [`WbvhParams::validate`] rejects values outside it with [`BuildError::Param`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WbvhParams {
+    /// Children per node: 4 or 8.
+    pub width: u32,
+    /// The binary SAH builder whose tree is collapsed (bins, leaf sizes, `K_T`, `K_I`).
+    /// `max_leaf_size` is limited to 32 here (a leaf reference holds 8 blocks of 4).
+    pub bvh: BvhParams,
+    /// Cost leaves in blocks of 4 triangles (`⌈n/4⌉` tests, as the leaves are tested),
+    /// Embree's block SAH; off costs `n`, as the binary BVH does.
+    pub block_cost: bool,
+    /// Use the scalar kernel even where AVX2 is available (the fallback's tests; the
+    /// environment variable `DYNRAY_FORCE_SCALAR=1` does the same for every build).
+    pub scalar: bool,
+}
+
+impl WbvhParams {
+    /// Quicker builds: 8 bins (as [`BvhParams::fast`]).
+    pub fn fast() -> Self {
+        Self { bvh: BvhParams { bins: 8, ..Self::default().bvh }, ..Self::default() }
+    }
+
+    /// Slower builds, slightly better trees: 32 bins.
+    pub fn high_quality() -> Self {
+        Self { bvh: BvhParams { bins: 32, ..Self::default().bvh }, ..Self::default() }
+    }
+}
+
+impl Default for WbvhParams {
+    /// Width 8, 16 bins, block cost, nodes of up to 4 triangles become leaves (Embree's
+    /// minimum leaf for 4-triangle blocks), leaves up to 16 triangles (4 blocks). The
+    /// width and leaf sizes were measured: see docs/structures.md, "The wide BVH".
+    fn default() -> Self {
+        Self {
+            width: 8,
+            bvh: BvhParams { bins: 16, leaf_size: 5, max_leaf_size: 16, traversal_cost: 1.0, intersection_cost: 1.0 },
+            block_cost: true,
+            scalar: false,
+        }
+    }
+}
+
+impl StructureParams for WbvhParams {
+    const STRUCTURE: &'static str = "wbvh";
+    const KEYS: &'static [ParamKey] = &[
+        ParamKey { name: "width", doc: "children per node, 4 or 8 (default 8)" },
+        ParamKey { name: "bins", doc: "SAH bins per axis, 2–256 (default 16)" },
+        ParamKey { name: "leaf_size", doc: "nodes under this many triangles become leaves, 2–32 (default 5)" },
+        ParamKey { name: "max_leaf_size", doc: "hard cap on a leaf, leaf_size − 1 to 32 (default 16)" },
+        ParamKey { name: "block_cost", doc: "SAH leaf cost in 4-triangle blocks, on/off (default on)" },
+        ParamKey { name: "traversal_cost", doc: "SAH K_T, (0, 1000] (default 1)" },
+        ParamKey { name: "intersection_cost", doc: "SAH K_I, (0, 1000] (default 1)" },
+        ParamKey { name: "kernel", doc: "auto (AVX2 where present) or scalar (default auto)" },
+    ];
+
+    fn presets() -> Vec<(&'static str, Self)> {
+        vec![("fast", Self::fast()), ("default", Self::default()), ("high_quality", Self::high_quality())]
+    }
+
+    fn set(&mut self, key: &str, v: &str) -> Result<(), BuildError> {
+        let s = Self::STRUCTURE;
+        match key {
+            "width" => self.width = value::u32(s, key, v)?,
+            "bins" => self.bvh.bins = value::u32(s, key, v)?,
+            "leaf_size" => self.bvh.leaf_size = value::u32(s, key, v)?,
+            "max_leaf_size" => self.bvh.max_leaf_size = value::u32(s, key, v)?,
+            "block_cost" => self.block_cost = value::bool(s, key, v)?,
+            "traversal_cost" => self.bvh.traversal_cost = value::f32(s, key, v)?,
+            "intersection_cost" => self.bvh.intersection_cost = value::f32(s, key, v)?,
+            "kernel" => self.scalar = value::choice(s, key, v, &["auto", "scalar"], "auto or scalar")? == 1,
+            _ => return Err(unknown_key::<Self>(key)),
+        }
+        Ok(())
+    }
+
+    /// Checks every field against its documented range.
+    fn validate(&self) -> Result<(), BuildError> {
+        let err = out_of_range::<Self>;
+        if self.width != 4 && self.width != 8 {
+            return err("width", format!("{} is neither 4 nor 8", self.width));
+        }
+        if self.bvh.max_leaf_size > 32 {
+            return err("max_leaf_size", format!("{} is above 32 (8 blocks of 4)", self.bvh.max_leaf_size));
+        }
+        // The binary builder's own ranges (bins, leaf_size, costs), named as ours.
+        self.bvh.validate().map_err(|e| match e {
+            BuildError::Param { name, message, .. } => BuildError::Param { structure: Self::STRUCTURE, name, message },
+            other => other,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn presets_are_valid() {
+        for (_, p) in WbvhParams::presets() {
+            p.validate().unwrap();
+        }
+    }
+
+    #[test]
+    fn out_of_range_fields_are_named() {
+        let d = WbvhParams::default();
+        let bad = [
+            (WbvhParams { width: 2, ..d }, "width"),
+            (WbvhParams { width: 16, ..d }, "width"),
+            (WbvhParams { bvh: BvhParams { max_leaf_size: 33, ..d.bvh }, ..d }, "max_leaf_size"),
+            (WbvhParams { bvh: BvhParams { bins: 1, ..d.bvh }, ..d }, "bins"),
+            (WbvhParams { bvh: BvhParams { leaf_size: 40, ..d.bvh }, ..d }, "leaf_size"),
+        ];
+        for (p, want) in bad {
+            match p.validate() {
+                Err(BuildError::Param { structure, name, .. }) => {
+                    assert_eq!((structure, name), ("wbvh", want), "{p:?}")
+                }
+                other => panic!("{p:?}: expected a {want} error, got {other:?}"),
+            }
+        }
+    }
+
+    #[test]
+    fn keys_set_their_fields() {
+        let pairs = |s: &[(&str, &str)]| s.iter().map(|(k, v)| (k.to_string(), v.to_string())).collect::<Vec<_>>();
+        let p = WbvhParams::from_pairs(&pairs(&[("width", "4"), ("kernel", "scalar"), ("block_cost", "off")])).unwrap();
+        assert_eq!((p.width, p.scalar, p.block_cost), (4, true, false));
+        assert!(WbvhParams::from_pairs(&pairs(&[("kernel", "sse")])).is_err());
+    }
+}

@@ -1,0 +1,204 @@
+//! Closest-hit and any-hit traversal of the wide BVH: one box test per node for all its
+//! children, hit children visited nearest first, boxes culled against the best `t`.
+//!
+//! The traversal is written once, generic over the node width and the [`Kernel`]; the AVX2
+//! entry points below are the same code compiled with `#[target_feature(enable = "avx2")]`,
+//! so the kernel's intrinsics and the traversal loop inline into one function.
+
+#[cfg(target_arch = "x86_64")]
+use super::kernel::KernelChoice;
+use super::kernel::{BoxRay, Kernel, Nears, Scalar};
+use super::node::{is_leaf, leaf_blocks, ChildRef, WideNode};
+use super::WideTree;
+use crate::Counter;
+use dynray_geom::{Hit, PreparedRay, Ray};
+
+/// Stack entries of trees whose bound (see [`stack_need`]) fits: 512 bytes to set up per
+/// ray. Deeper trees (pathological meshes) use [`STACK_CAPACITY`].
+const SMALL_STACK: usize = 64;
+/// The largest stack: `validate` rejects trees whose [`stack_need`] exceeds it. The
+/// binary builder's depth bound (`MAX_DEPTH` = 96) times 7 fits.
+pub(super) const STACK_CAPACITY: usize = 1024;
+
+/// Entries the traversal stack can need for a tree with `levels` interior levels: each
+/// interior node visited pushes its hit children (at most `W`) and pops the nearest, so at
+/// most `W - 1` entries per level stay, plus `W` for the node being expanded.
+pub(super) fn stack_need(levels: u32, width: usize) -> usize {
+    levels as usize * (width - 1) + 1
+}
+
+/// A deferred child and its entry distance when it was pushed.
+#[derive(Clone, Copy, Default)]
+struct Entry {
+    node: ChildRef,
+    t: f32,
+}
+
+impl<N: WideNode> WideTree<N> {
+    /// Closest hit with the kernel chosen at build time.
+    #[inline]
+    #[allow(unsafe_code)]
+    pub(super) fn closest<C: Counter>(&self, ray: &Ray, c: &mut C) -> Hit {
+        #[cfg(target_arch = "x86_64")]
+        if self.kernel == KernelChoice::Avx2 {
+            // SAFETY: `KernelChoice::Avx2` is only chosen when AVX2 was detected.
+            return unsafe { self.closest_avx2(ray, c) };
+        }
+        self.closest_sized::<Scalar, C>(ray, c)
+    }
+
+    /// Any hit with the kernel chosen at build time.
+    #[inline]
+    #[allow(unsafe_code)]
+    pub(super) fn any<C: Counter>(&self, ray: &Ray, c: &mut C) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        if self.kernel == KernelChoice::Avx2 {
+            // SAFETY: as in `closest`.
+            return unsafe { self.any_avx2(ray, c) };
+        }
+        self.any_sized::<Scalar, C>(ray, c)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    #[allow(unsafe_code)]
+    unsafe fn closest_avx2<C: Counter>(&self, ray: &Ray, c: &mut C) -> Hit {
+        self.closest_sized::<super::kernel_avx2::Avx2, C>(ray, c)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    #[allow(unsafe_code)]
+    unsafe fn any_avx2<C: Counter>(&self, ray: &Ray, c: &mut C) -> bool {
+        self.any_sized::<super::kernel_avx2::Avx2, C>(ray, c)
+    }
+
+    #[inline(always)]
+    fn closest_sized<K: Kernel, C: Counter>(&self, ray: &Ray, c: &mut C) -> Hit {
+        if self.stack_need <= SMALL_STACK {
+            self.closest_with::<K, C, SMALL_STACK>(ray, c)
+        } else {
+            self.closest_with::<K, C, STACK_CAPACITY>(ray, c)
+        }
+    }
+
+    #[inline(always)]
+    fn any_sized<K: Kernel, C: Counter>(&self, ray: &Ray, c: &mut C) -> bool {
+        if self.stack_need <= SMALL_STACK {
+            self.any_with::<K, C, SMALL_STACK>(ray, c)
+        } else {
+            self.any_with::<K, C, STACK_CAPACITY>(ray, c)
+        }
+    }
+
+    /// Closest hit with an `S`-entry stack (`S >= self.stack_need`).
+    #[inline(always)]
+    fn closest_with<K: Kernel, C: Counter, const S: usize>(&self, ray: &Ray, c: &mut C) -> Hit {
+        let br = BoxRay::new(ray);
+        let (tmin, tmax) = (ray.tmin, ray.tmax);
+        // The triangle test's constants (f64 shear, axis order) only once a leaf is reached:
+        // rays that miss every box never pay for them.
+        let mut pr: Option<PreparedRay> = None;
+        let mut best = Hit::MISS;
+        let mut stack = [Entry::default(); S];
+        let mut sp = 0usize;
+        let mut near: Nears = [0.0; 8];
+        let mut cur: ChildRef = 0;
+        loop {
+            if is_leaf(cur) {
+                let pr = pr.get_or_insert_with(|| PreparedRay::new(ray));
+                let (first, count) = leaf_blocks(cur);
+                c.triangles(4 * count as u32);
+                for b in &self.blocks[first..first + count] {
+                    K::closest(b, pr, &mut best);
+                }
+            } else {
+                let node = &self.nodes[cur as usize];
+                c.node();
+                // Cull only boxes entered after the best hit: `limit` = best.t keeps a box
+                // entered exactly at best.t (a lower-index triangle may tie there).
+                let mask = K::boxes(node, &br, tmin, best.t.min(tmax), &mut near);
+                if mask != 0 {
+                    if mask & (mask - 1) == 0 {
+                        cur = node.child(mask.trailing_zeros() as usize);
+                        continue;
+                    }
+                    // Push every hit child, sort the pushed run so the nearest is on top
+                    // (insertion sort: at most 8 entries), and descend into it.
+                    let start = sp;
+                    let mut m = mask;
+                    while m != 0 {
+                        let i = m.trailing_zeros() as usize;
+                        m &= m - 1;
+                        let e = Entry { node: node.child(i), t: near[i] };
+                        let mut j = sp;
+                        while j > start && stack[j - 1].t < e.t {
+                            stack[j] = stack[j - 1];
+                            j -= 1;
+                        }
+                        stack[j] = e;
+                        sp += 1;
+                    }
+                    sp -= 1;
+                    cur = stack[sp].node;
+                    continue;
+                }
+            }
+            // Pop the next child still entered no later than the best hit.
+            loop {
+                if sp == 0 {
+                    return best;
+                }
+                sp -= 1;
+                let e = stack[sp];
+                if e.t <= best.t {
+                    cur = e.node;
+                    break;
+                }
+            }
+        }
+    }
+
+    /// Any hit with an `S`-entry stack: returns at the first triangle accepted. Children
+    /// are not sorted: any hit ends the walk, so order buys little.
+    #[inline(always)]
+    fn any_with<K: Kernel, C: Counter, const S: usize>(&self, ray: &Ray, c: &mut C) -> bool {
+        let br = BoxRay::new(ray);
+        let (tmin, tmax) = (ray.tmin, ray.tmax);
+        let mut pr: Option<PreparedRay> = None;
+        let mut stack = [0 as ChildRef; S];
+        let mut sp = 0usize;
+        let mut near: Nears = [0.0; 8];
+        let mut cur: ChildRef = 0;
+        loop {
+            if is_leaf(cur) {
+                let pr = pr.get_or_insert_with(|| PreparedRay::new(ray));
+                let (first, count) = leaf_blocks(cur);
+                c.triangles(4 * count as u32);
+                if self.blocks[first..first + count].iter().any(|b| K::any(b, pr)) {
+                    return true;
+                }
+            } else {
+                let node = &self.nodes[cur as usize];
+                c.node();
+                let mut m = K::boxes(node, &br, tmin, tmax, &mut near);
+                if m != 0 {
+                    let i = m.trailing_zeros() as usize;
+                    m &= m - 1;
+                    while m != 0 {
+                        stack[sp] = node.child(m.trailing_zeros() as usize);
+                        sp += 1;
+                        m &= m - 1;
+                    }
+                    cur = node.child(i);
+                    continue;
+                }
+            }
+            if sp == 0 {
+                return false;
+            }
+            sp -= 1;
+            cur = stack[sp];
+        }
+    }
+}

@@ -1,0 +1,188 @@
+//! Self-check of a built or refitted wide BVH, which also measures its shape.
+
+use super::block::{TriBlock, LANES};
+use super::node::{is_leaf, leaf_blocks, WideNode, EMPTY};
+use super::traverse::{stack_need, STACK_CAPACITY};
+use super::WideTree;
+use dynray_geom::{Aabb, TriangleMesh};
+
+/// A broken invariant, with the node where it was found.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("wide BVH invariant broken at node {node}: {what}")]
+pub struct InvalidWbvh {
+    /// Index of the offending node (0 for array-level problems).
+    pub node: u32,
+    /// What is wrong, with the values involved.
+    pub what: String,
+}
+
+/// Shape and quality of a valid tree.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct WbvhShape {
+    /// Interior (wide) nodes.
+    pub interior: usize,
+    /// Leaves (runs of blocks).
+    pub leaves: usize,
+    /// Blocks.
+    pub blocks: usize,
+    /// Triangles (real lanes).
+    pub triangles: usize,
+    /// Interior levels on the deepest path: the depth of the deepest leaf (root = 0).
+    pub levels: u32,
+    /// Triangles per leaf, as [`crate::AccelStats::leaf_sizes`].
+    pub leaf_sizes: Vec<usize>,
+    /// SAH cost relative to the root's box: `K_T = 1` per interior node, `K_I = 1` per
+    /// block of a leaf (what the kernel tests).
+    pub sah_cost: Option<f64>,
+}
+
+impl WbvhShape {
+    /// Share of block lanes that hold a triangle (the rest are padding).
+    pub fn fill(&self) -> f64 {
+        if self.blocks == 0 {
+            0.0
+        } else {
+            self.triangles as f64 / (LANES * self.blocks) as f64
+        }
+    }
+}
+
+fn bad(node: usize, what: String) -> InvalidWbvh {
+    InvalidWbvh { node: node as u32, what }
+}
+
+impl<N: WideNode> WideTree<N> {
+    /// [`WideTree::shape`], then every block lane is an exact copy of its mesh triangle and
+    /// the blocks hold every mesh triangle exactly once.
+    pub(super) fn check(&self, mesh: &TriangleMesh) -> Result<WbvhShape, InvalidWbvh> {
+        let shape = self.shape()?;
+        let n = mesh.triangle_count();
+        if shape.triangles != n {
+            return Err(bad(0, format!("mesh has {n} triangles, tree {}", shape.triangles)));
+        }
+        let mut seen = vec![false; n];
+        for (i, b) in self.blocks.iter().enumerate() {
+            for lane in (0..LANES).filter(|&l| !b.is_pad(l)) {
+                let id = b.ids[lane] as usize;
+                if id >= n || std::mem::replace(&mut seen[id], true) {
+                    return Err(bad(0, format!("block {i} lane {lane}: triangle id {id} out of range or repeated")));
+                }
+                if b.triangle(lane) != mesh.triangle(id) {
+                    return Err(bad(0, format!("block {i} lane {lane} is not a copy of mesh triangle {id}")));
+                }
+            }
+        }
+        Ok(shape)
+    }
+
+    /// The invariants that need no mesh: every node reached once from the root and after
+    /// its parent, lanes `count..W` empty, child boxes non-empty and inside the parent's
+    /// box for that child, leaf triangles inside their leaf's box, every block in exactly
+    /// one leaf, padding lanes NaN (what makes them miss in the SIMD kernel), the recorded
+    /// depth the real one and the stack it needs within [`STACK_CAPACITY`].
+    pub(super) fn shape(&self) -> Result<WbvhShape, InvalidWbvh> {
+        let nodes = &self.nodes;
+        if nodes.is_empty() || self.blocks.is_empty() {
+            return Err(bad(0, format!("{} nodes, {} blocks", nodes.len(), self.blocks.len())));
+        }
+        let mut s = WbvhShape::default();
+        let mut sizes = crate::LeafSizes::new();
+        let mut reached = vec![false; nodes.len()];
+        let mut block_used = vec![false; self.blocks.len()];
+        let root_box = (0..nodes[0].count()).fold(Aabb::EMPTY, |b, k| b.union(&nodes[0].child_box(k)));
+        let root_area = root_box.surface_area() as f64;
+        let mut sah = 0.0f64;
+        // (node, its box as the parent stores it, interior level: root 1)
+        let mut stack = vec![(0usize, root_box, 1u32)];
+        reached[0] = true;
+        while let Some((i, parent_box, level)) = stack.pop() {
+            let node = &nodes[i];
+            s.interior += 1;
+            s.levels = s.levels.max(level);
+            sah += parent_box.surface_area() as f64;
+            let count = node.count();
+            if count == 0 || count > N::W {
+                return Err(bad(i, format!("{count} children (width {})", N::W)));
+            }
+            if let Some(k) = (count..N::W).find(|&k| node.child(k) != EMPTY) {
+                return Err(bad(i, format!("unused lane {k} holds reference {:#x}", node.child(k))));
+            }
+            for k in 0..count {
+                let (c, b) = (node.child(k), node.child_box(k));
+                if b.is_empty() || !parent_box.contains(&b) {
+                    return Err(bad(i, format!("child {k} box {b:?} empty or outside {parent_box:?}")));
+                }
+                if is_leaf(c) {
+                    let (first, nb) = leaf_blocks(c);
+                    if c == EMPTY || first + nb > self.blocks.len() {
+                        return Err(bad(
+                            i,
+                            format!("leaf {k} blocks {first}..{} of {}", first + nb, self.blocks.len()),
+                        ));
+                    }
+                    let mut tris = 0;
+                    for (j, blk) in self.blocks[first..first + nb].iter().enumerate() {
+                        if std::mem::replace(&mut block_used[first + j], true) {
+                            return Err(bad(i, format!("block {} in two leaves", first + j)));
+                        }
+                        check_block(blk, &b).map_err(|e| bad(i, format!("block {}: {e}", first + j)))?;
+                        tris += blk.real_lanes();
+                    }
+                    s.leaves += 1;
+                    s.blocks += nb;
+                    s.triangles += tris;
+                    sizes.add(tris);
+                    sah += b.surface_area() as f64 * nb as f64;
+                } else {
+                    let ci = c as usize;
+                    if ci <= i || ci >= nodes.len() {
+                        return Err(bad(
+                            i,
+                            format!("child {k} = node {ci} out of order or range ({} nodes)", nodes.len()),
+                        ));
+                    }
+                    if std::mem::replace(&mut reached[ci], true) {
+                        return Err(bad(i, format!("node {ci} has two parents")));
+                    }
+                    stack.push((ci, b, level + 1));
+                }
+            }
+        }
+        if s.interior != nodes.len() {
+            return Err(bad(0, format!("{} of {} nodes unreachable", nodes.len() - s.interior, nodes.len())));
+        }
+        if let Some(j) = block_used.iter().position(|u| !u) {
+            return Err(bad(0, format!("block {j} in no leaf")));
+        }
+        if s.levels != self.levels || stack_need(s.levels, N::W) != self.stack_need {
+            return Err(bad(0, format!("recorded {} levels, measured {}", self.levels, s.levels)));
+        }
+        if self.stack_need > STACK_CAPACITY {
+            return Err(bad(
+                0,
+                format!("{} levels need {} stack entries, above {STACK_CAPACITY}", s.levels, self.stack_need),
+            ));
+        }
+        s.leaf_sizes = sizes.finish();
+        s.sah_cost = (root_area > 0.0).then(|| sah / root_area);
+        Ok(s)
+    }
+}
+
+/// A block's real lanes inside `leaf_box`, at least one real lane, padding all NaN.
+fn check_block(b: &TriBlock, leaf_box: &Aabb) -> Result<(), String> {
+    if b.real_lanes() == 0 {
+        return Err("no triangle".into());
+    }
+    for lane in 0..LANES {
+        if b.is_pad(lane) {
+            let t = b.triangle(lane);
+            if ![t.p0, t.p1, t.p2].iter().all(|p| p.is_nan_mask().all()) {
+                return Err(format!("padding lane {lane} is not NaN: {t:?}"));
+            }
+        } else if !leaf_box.contains(&b.triangle(lane).bounds()) {
+            return Err(format!("lane {lane} sticks out of {leaf_box:?}"));
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,172 @@
+//! The wide BVH against brute force beyond oracle.rs (which checks every preset at the
+//! default width and kernel): both widths × both kernels on the standard bunny and dragon
+//! sets, degenerate scenes, tiny meshes (one-leaf roots, padded blocks), refit.
+//!
+//! Each variant reuses the one brute-force answer of its ray set (support's on-disk
+//! cache), so the cost is the variants' own traversal. CI also runs this file with
+//! `DYNRAY_FORCE_SCALAR=1`, which sends even the `kernel=auto` builds to the scalar kernel.
+
+mod support;
+
+use dynray_accel::{Accel, AccelKind, AccelSpec, BatchQuery, Wbvh, WbvhParams};
+use dynray_geom::{Ray, TriangleMesh, Vec3};
+use support::degenerate::{coplanar_sheet, million_to_one_strip, rays_at};
+use support::*;
+
+/// Every width and kernel, as `--accel` spells them.
+const VARIANTS: [&str; 4] =
+    ["wbvh:width=4", "wbvh:width=8", "wbvh:width=4,kernel=scalar", "wbvh:width=8,kernel=scalar"];
+
+fn build(spec: &str, mesh: &TriangleMesh) -> Box<dyn Accel> {
+    let spec: AccelSpec = spec.parse().unwrap();
+    let a = spec.build(mesh, None).unwrap_or_else(|e| panic!("{spec}: {e}"));
+    let s = a.validate(mesh).unwrap_or_else(|e| panic!("{spec}: {e}"));
+    assert_eq!(s.primitive_refs, mesh.triangle_count(), "{spec}: {s:?}");
+    a
+}
+
+fn check_variants(mesh: &TriangleMesh, rays: &[Ray], label: &str) {
+    for v in VARIANTS {
+        let a = build(v, mesh);
+        assert_matches_oracle(a.as_ref(), mesh, rays, &format!("{label} ({v}, kernel {})", kernel_of(a.as_ref())));
+    }
+}
+
+fn kernel_of(a: &dyn Accel) -> String {
+    a.stats().extra.into_iter().find(|(k, _)| k == "kernel").map(|(_, v)| v).unwrap_or_default()
+}
+
+#[test]
+fn every_width_and_kernel_matches_brute_on_the_bunny() {
+    let mesh = bunny();
+    check_variants(&mesh, &bunny_rays(&mesh), "bunny");
+}
+
+#[test]
+fn every_width_and_kernel_matches_brute_on_the_dragon() {
+    let mesh = dragon_res2();
+    check_variants(&mesh, &dragon_rays(&mesh), "dragon_res2");
+}
+
+#[test]
+fn the_scalar_kernel_is_what_kernel_scalar_asks_for() {
+    let mesh = bunny();
+    let scalar = build("wbvh:kernel=scalar", &mesh);
+    assert_eq!(kernel_of(scalar.as_ref()), "scalar");
+    // Without the environment override, `auto` takes AVX2 where the CPU has it.
+    #[cfg(target_arch = "x86_64")]
+    if std::env::var_os(dynray_accel::wbvh::FORCE_SCALAR_ENV).is_none() && std::arch::is_x86_feature_detected!("avx2") {
+        assert_eq!(kernel_of(build("wbvh", &mesh).as_ref()), "avx2");
+    }
+}
+
+#[test]
+fn registry_builds_the_wide_bvh_by_name_with_sane_stats() {
+    let mesh = bunny();
+    let a = "wbvh".parse::<AccelKind>().unwrap().build(&mesh).unwrap();
+    assert_eq!(a.name(), "wbvh");
+    let s = a.stats();
+    assert_eq!(s.leaf_sizes.iter().enumerate().map(|(k, c)| k * c).sum::<usize>(), mesh.triangle_count());
+    assert!(s.sah_cost.is_some_and(|c| c > 1.0) && s.max_depth >= 3, "{s:?}");
+    // 256-byte nodes and 160-byte blocks, at least ⌈n/4⌉ of them.
+    assert!(s.memory_bytes >= mesh.triangle_count().div_ceil(4) * 160, "{s:?}");
+    // The binary BVH is at least 2.5× deeper than its 8-wide collapse on the bunny (18 levels).
+    let bvh = AccelKind::Bvh.build(&mesh).unwrap().stats();
+    assert!(s.max_depth * 2 <= bvh.max_depth, "wbvh depth {} vs bvh {}", s.max_depth, bvh.max_depth);
+}
+
+#[test]
+fn tiny_meshes_with_one_leaf_roots_and_padded_blocks() {
+    // 1..=9 triangles of a fan: a root with one leaf child, partly filled blocks, a
+    // second level once the builder splits.
+    for n in 1..=9u32 {
+        let mut pos = vec![[0.0, 0.0, 0.0]];
+        for k in 0..=n {
+            let a = k as f32 * 0.6;
+            pos.push([a.cos(), a.sin(), 0.1 * k as f32]);
+        }
+        let mesh = TriangleMesh::new(pos, (0..n).map(|k| [0, k + 1, k + 2]).collect());
+        let mut rays = random_rays(&mesh, 1_000, 40 + n as u64);
+        rays.extend(adversarial_rays(&mesh, 500, 60 + n as u64));
+        check_variants(&mesh, &rays, &format!("fan of {n}"));
+    }
+}
+
+#[test]
+fn degenerate_scenes() {
+    let sheet = coplanar_sheet();
+    let b = sheet.bounds();
+    let mut rays = rays_at(b.min, b.max, 4_000, 31);
+    rays.extend(adversarial_rays(&sheet, 1_000, 32));
+    check_variants(&sheet, &rays, "coplanar sheet");
+
+    let strip = million_to_one_strip();
+    let mut rays = random_rays(&strip, 3_000, 33);
+    rays.extend(adversarial_rays(&strip, 1_000, 34));
+    check_variants(&strip, &rays, "1e6:1 strip");
+
+    // 20k triangles in one point: every centroid equal, median splits by index.
+    let point = TriangleMesh::new(vec![[0.3, -0.2, 1.0]; 3], (0..20_000).map(|_| [0, 1, 2]).collect());
+    let rays: Vec<Ray> = (0..100)
+        .map(|i| {
+            let o = Vec3::new(i as f32 * 0.02 - 1.0, 2.0, 0.5);
+            Ray::new(o, Vec3::new(0.3, -0.2, 1.0) - o)
+        })
+        .collect();
+    check_variants(&point, &rays, "one point");
+}
+
+#[test]
+fn identical_triangles_tie_to_the_lowest_index() {
+    // 10k copies of one triangle: every hit is at the same `t`, so the answer is triangle
+    // 0 only if no leaf is culled at exactly the best `t`.
+    let mesh = TriangleMesh::new(
+        vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+        (0..10_000).map(|_| [0, 1, 2]).collect(),
+    );
+    let rays: Vec<Ray> = (0..16)
+        .map(|i| Ray::new(Vec3::new(0.05 * i as f32, 0.2, 1.0 + i as f32), Vec3::new(0.01, 0.0, -1.0)))
+        .collect();
+    for v in VARIANTS {
+        let a = build(v, &mesh);
+        // The first rays hit (the later ones pass beside the triangle).
+        assert!(rays[..8].iter().all(|r| a.intersect(r).prim == 0), "{v}");
+        assert_matches_oracle(a.as_ref(), &mesh, &rays, &format!("10k copies ({v})"));
+    }
+}
+
+#[test]
+fn refit_follows_a_wave_and_refitting_back_restores_the_tree() {
+    let mesh = bunny();
+    for v in ["wbvh:width=4", "wbvh:width=8"] {
+        let mut a = build(v, &mesh);
+        assert!(a.update_refits(), "{v}");
+        let before = a.stats();
+        let probe = random_rays(&mesh, 5_000, 90);
+        let hits_before = a.as_ref().intersect_batch(&probe);
+        // The waves and rays of oracle.rs's update test, so the brute-force answers are shared.
+        for (step, amp) in [(0u64, 0.01f32), (1, 0.2)] {
+            let moved = wave(&mesh, amp, step as f32);
+            a.update(&moved).unwrap();
+            a.validate(&moved).unwrap_or_else(|e| panic!("{v} after refit: {e}"));
+            let mut rays = random_rays(&moved, 4_000, 500 + step);
+            rays.extend(adversarial_rays(&moved, 1_000, 600 + step));
+            assert_matches_oracle(a.as_ref(), &moved, &rays, &format!("{v} wave {amp}"));
+        }
+        a.update(&mesh).unwrap();
+        assert_eq!(a.stats(), before, "{v}: refitting back must give the built tree");
+        assert!(a.as_ref().intersect_batch(&probe).iter().zip(&hits_before).all(|(x, y)| x.same_as(y)), "{v}");
+    }
+}
+
+#[test]
+fn block_cost_off_builds_a_valid_tree_too() {
+    let mesh = dragon_res2();
+    let p = WbvhParams { block_cost: false, ..WbvhParams::default() };
+    let w = Wbvh::build(&mesh, &p).unwrap();
+    w.validate(&mesh).unwrap();
+    let on = Wbvh::build(&mesh, &WbvhParams::default()).unwrap().stats();
+    // Block cost makes fewer, fuller leaves (the point of it).
+    assert!(on.leaves < w.stats().leaves, "{} vs {}", on.leaves, w.stats().leaves);
+    assert_matches_oracle(&w, &mesh, &dragon_rays(&mesh), "dragon_res2 block_cost=off");
+}
