@@ -18,6 +18,7 @@ mod kernel_avx2;
 pub mod node;
 pub mod params;
 mod refit;
+pub(crate) mod scan;
 mod traverse;
 mod validate;
 
@@ -29,7 +30,7 @@ pub use validate::InvalidWbvh;
 
 use crate::{Accel, AccelStats, BuildError, Bvh, InvalidStructure, NoCount, TraversalCounts};
 use dynray_geom::{Hit, Ray, TriangleMesh};
-use kernel::KernelChoice;
+pub(crate) use kernel::KernelChoice;
 
 /// A wide BVH over one mesh, 4 or 8 children per node ([`WbvhParams::width`]).
 #[derive(Clone, Debug)]
