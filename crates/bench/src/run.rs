@@ -14,6 +14,9 @@ use std::path::Path;
 /// problems (unknown scene, unreadable file, unwritable folder, missing font) are errors.
 pub fn run(config: &BenchConfig) -> Result<Report> {
     fonts::ensure_font()?;
+    // One device for the whole run (`--backend gpu`), opened before anything is written:
+    // its kernels compile once, and a missing adapter leaves no output folder behind.
+    let mut gpu = config.gpu.as_ref().map(GpuSession::open).transpose()?;
     std::fs::create_dir_all(&config.out).with_context(|| format!("cannot create {}", config.out.display()))?;
     let accels = config.accels_or_default();
     let started = machine::now_utc();
@@ -46,16 +49,10 @@ pub fn run(config: &BenchConfig) -> Result<Report> {
         mismatches: Vec::new(),
         notes: Vec::new(),
     };
-    // One device for the whole run (`--backend gpu`): its kernels compile once.
-    let mut gpu = match &config.gpu {
-        Some(g) => {
-            let session = GpuSession::open(g)?;
-            report.gpu = Some(session.info());
-            report.notes.extend(session.notes());
-            Some(session)
-        }
-        None => None,
-    };
+    if let Some(g) = &gpu {
+        report.gpu = Some(g.info());
+        report.notes.extend(g.notes());
+    }
     if config.presets.contains(&Preset::Standard) {
         standard(config, &accels, gpu.as_mut(), &mut report)?;
     }
