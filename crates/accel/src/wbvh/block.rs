@@ -15,7 +15,7 @@ pub const PAD_ID: u32 = u32::MAX;
 /// (`p0`, `p1`, `p2`) of the lane's triangle; `ids[lane]` its mesh index.
 ///
 /// Padding: a leaf of `n` triangles fills `⌈n/4⌉` blocks; the unused lanes of its last
-/// block have NaN vertices and id [`PAD_ID`]. Such a lane can never hit: every value the
+/// block have NaN vertices and id `PAD_ID` (`u32::MAX`). Such a lane can never hit: every value the
 /// test derives from its vertices is NaN, so the sign test and `det == 0` reject nothing,
 /// and the final `t >= tmin && t <= tmax` is false for `t = NaN` whatever the ray
 /// (`pad_lanes_never_hit` in kernel.rs checks it on adversarial rays).
@@ -24,7 +24,7 @@ pub const PAD_ID: u32 = u32::MAX;
 pub struct TriBlock {
     /// Vertex coordinates, SoA.
     pub v: [[[f32; LANES]; 3]; 3],
-    /// Mesh triangle index per lane, [`PAD_ID`] for padding.
+    /// Mesh triangle index per lane, `PAD_ID` (`u32::MAX`) for padding.
     pub ids: [u32; LANES],
 }
 
