@@ -5,8 +5,8 @@ use crate::format::{bytes, num, thousands};
 use crate::report::Report;
 use std::fmt::Write;
 
-/// `value (ratio)` where a ratio ours/theirs is known.
-fn with_ratio(v: String, ratio: Option<f64>) -> String {
+/// `value (ratio)` where a ratio ours/theirs (or GPU/CPU) is known.
+pub(crate) fn with_ratio(v: String, ratio: Option<f64>) -> String {
     match ratio {
         Some(r) => format!("{v} ({}×)", num(r)),
         None => v,

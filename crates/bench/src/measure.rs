@@ -102,15 +102,23 @@ fn describe(h: &Hit) -> String {
 /// Builds `v` once as a warm-up, then `repeat` more times; returns the last structure and
 /// the timed builds in ms.
 pub fn timed_builds(v: &AccelSpec, frame: &Frame, repeat: usize) -> Result<(Box<dyn Accel>, Vec<f64>)> {
-    let mut accel = v.build(&frame.mesh, Some(frame.camera.position))?;
-    let mut times = Vec::with_capacity(repeat);
+    let (times, accel) = warm_then_timed(repeat, || Ok(v.build(&frame.mesh, Some(frame.camera.position))?))?;
+    Ok((accel, times))
+}
+
+/// Runs `f` once untimed (the warm-up: first compilations, uploads, page faults), then
+/// `repeat` times (at least once) by the wall clock, each run's predecessor dropped before
+/// its timer starts; returns the timed runs' ms and the last result.
+pub fn warm_then_timed<T>(repeat: usize, mut f: impl FnMut() -> Result<T>) -> Result<(Vec<f64>, T)> {
+    let mut last = f()?;
+    let mut times = Vec::with_capacity(repeat.max(1));
     for _ in 0..repeat.max(1) {
-        drop(accel);
+        drop(last);
         let t = Instant::now();
-        accel = v.build(&frame.mesh, Some(frame.camera.position))?;
+        last = f()?;
         times.push(ms(t));
     }
-    Ok((accel, times))
+    Ok((times, last))
 }
 
 /// Milliseconds since `t`.

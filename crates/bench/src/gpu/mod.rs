@@ -7,9 +7,8 @@ pub mod standard;
 use crate::config::GpuBench;
 use crate::report::GpuInfo;
 use anyhow::{Context, Result};
-use dynray_accel::{AccelKind, AccelSpec, Bvh, BvhParams};
+use dynray_accel::{AccelKind, AccelSpec, BvhParams};
 use dynray_gpu::{GpuBuild, GpuContext, GpuRenderer, Precision};
-use dynray_scene::Frame;
 use std::sync::Arc;
 
 /// The device of a `--backend gpu` run, with one renderer (its kernels compiled once).
@@ -81,9 +80,4 @@ pub fn bvh_params(spec: &AccelSpec) -> Result<BvhParams> {
     } else {
         Ok(BvhParams::default())
     }
-}
-
-/// Builds the CPU's BVH over `frame`'s mesh with `params`.
-pub fn cpu_bvh(frame: &Frame, params: &BvhParams, scene: &str) -> Result<Bvh> {
-    Bvh::build(&frame.mesh, params).with_context(|| format!("{scene}: cannot build bvh"))
 }

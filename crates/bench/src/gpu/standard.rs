@@ -5,7 +5,8 @@
 
 use super::{bvh_params, GpuSession};
 use crate::format::{bytes, num, thousands};
-use crate::measure::{measure_kind, ms, MeasureInput};
+use crate::markdown::with_ratio;
+use crate::measure::{measure_kind, ms, warm_then_timed, MeasureInput};
 use crate::report::{median, Mismatch, SceneResult, StructureResult};
 use anyhow::{Context, Result};
 use dynray_accel::{Accel, AccelSpec, BvhParams};
@@ -33,15 +34,8 @@ pub fn measure(
     let mesh = &input.frame.mesh;
     let cannot = || format!("{}: cannot build {label} on the GPU ({} build)", input.scene, gpu.build);
     step("gpu build");
-    let build = || GpuBvh::build(gpu.ctx.clone(), mesh, gpu.build, &params);
-    let (mut tree, mut timings) = build().with_context(cannot)?;
-    let mut build_ms_runs = Vec::with_capacity(input.repeat);
-    for _ in 0..input.repeat.max(1) {
-        drop(tree);
-        let t = Instant::now();
-        (tree, timings) = build().with_context(cannot)?;
-        build_ms_runs.push(ms(t));
-    }
+    let build = || GpuBvh::build(gpu.ctx.clone(), mesh, gpu.build, &params).with_context(cannot);
+    let (build_ms_runs, (tree, timings)) = warm_then_timed(input.repeat, build)?;
     // The device's own tree, read back: its shape, and the CPU traversal of the same tree
     // counts the work per ray (the kernels walk it in the same order).
     let host = tree.download(mesh, &params).with_context(cannot)?;
@@ -157,10 +151,7 @@ pub fn markdown(sc: &SceneResult, rays: &[String], s: &mut String) {
     head.push_str(" time to image ms | rays checked |");
     rule.push_str("--:|--:|");
     let _ = writeln!(s, "{head}\n{rule}");
-    let ratio = |v: String, r: Option<f64>| match r {
-        Some(r) if r.is_finite() => format!("{v} ({}×)", num(r)),
-        _ => v,
-    };
+    let ratio = |v: String, r: Option<f64>| with_ratio(v, r.filter(|r| r.is_finite()));
     for st in &sc.gpu {
         let cpu = sc.structures.iter().find(|c| c.accel == st.accel);
         let over = |gpu: f64, cpu: Option<f64>| cpu.filter(|_| gpu > 0.0).map(|c| c / gpu);

@@ -22,7 +22,7 @@ use crate::report::{median, Mismatch, Seed003Level, Seed003Result, Seed003Scene}
 use crate::scenes::load_scenes;
 use anyhow::{Context, Result};
 use dynray_accel::AccelSpec;
-use dynray_accel::{Accel, Brute};
+use dynray_accel::{Accel, Brute, Bvh};
 use dynray_render::{render, Film, RenderOptions};
 use dynray_scene::Frame;
 use std::fmt::Write;
@@ -93,7 +93,9 @@ pub fn run(
         // The GPU renders through the CPU's BVH, uploaded once (the seed's set-up).
         let gpu_params = gpu::bvh_params(&accel_v)?;
         let gpu_bvh = match gpu {
-            Some(_) => Some(gpu::cpu_bvh(&frame, &gpu_params, &sc.name)?),
+            Some(_) => {
+                Some(Bvh::build(&frame.mesh, &gpu_params).with_context(|| format!("{}: cannot build bvh", sc.name))?)
+            }
             None => None,
         };
         let brute = if frame.mesh.triangle_count() <= BRUTE_MAX_TRIANGLES {

@@ -7,7 +7,7 @@
 
 use crate::format::{num, thousands};
 use crate::gpu::GpuSession;
-use crate::measure::ms;
+use crate::measure::warm_then_timed;
 use crate::report::{median, Mismatch, Seed003GpuBuild, Seed003GpuRun, Seed003Scene};
 use anyhow::{Context, Result};
 use dynray_accel::{Accel, Bvh, BvhParams};
@@ -15,7 +15,6 @@ use dynray_gpu::{GpuBuild, GpuBvh, GpuRenderOptions, GpuStrategy};
 use dynray_render::{Film, RenderOptions};
 use dynray_scene::Frame;
 use std::fmt::Write;
-use std::time::Instant;
 
 /// The seed's order: Alg. 1, 2, 3.
 pub const STRATEGIES: [GpuStrategy; 3] = [GpuStrategy::Wavefront, GpuStrategy::Megakernel, GpuStrategy::Hybrid];
@@ -120,29 +119,12 @@ pub fn builds(
 ) -> Result<(f64, Vec<Seed003GpuBuild>)> {
     let mesh = &frame.mesh;
     let cannot = |how: GpuBuild| format!("{scene}: cannot build bvh ({how} build)");
-    let mut cpu_runs = Vec::new();
-    for run in 0..=repeat.max(1) {
-        let t = Instant::now();
-        let bvh = single.install(|| Bvh::build(mesh, params)).with_context(|| cannot(GpuBuild::Cpu))?;
-        drop(bvh);
-        if run > 0 {
-            cpu_runs.push(ms(t));
-        }
-    }
-    let cpu_single = median(&cpu_runs);
+    let cpu_build = || single.install(|| Bvh::build(mesh, params)).with_context(|| cannot(GpuBuild::Cpu));
+    let cpu_single = median(&warm_then_timed(repeat, cpu_build)?.0);
     let mut out = Vec::new();
     for how in [GpuBuild::Sah, GpuBuild::Lbvh, GpuBuild::Cpu] {
-        let mut runs = Vec::new();
-        let mut last = None;
-        for run in 0..=repeat.max(1) {
-            let t = Instant::now();
-            let built = GpuBvh::build(gpu.ctx.clone(), mesh, how, params).with_context(|| cannot(how))?;
-            if run > 0 {
-                runs.push(ms(t));
-            }
-            last = Some(built);
-        }
-        let (tree, timings) = last.expect("at least one run");
+        let gpu_build = || GpuBvh::build(gpu.ctx.clone(), mesh, how, params).with_context(|| cannot(how));
+        let (runs, (tree, timings)) = warm_then_timed(repeat, gpu_build)?;
         let stats = tree.download(mesh, params).with_context(|| cannot(how))?.stats();
         let t = median(&runs);
         out.push(Seed003GpuBuild {
