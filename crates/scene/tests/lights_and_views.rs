@@ -4,7 +4,7 @@
 
 mod support;
 
-use dynray_scene::{load_file, load_file_report, parse_scn_str, Camera, LightKind};
+use dynray_scene::{load_file, load_file_report, parse_scn_str, Camera, Color, LightKind};
 use glam::Vec3;
 use std::f32::consts::PI;
 use support::*;
@@ -183,4 +183,20 @@ fn a_scene_file_camera_is_kept() {
     );
     let cam = s.unwrap().camera.unwrap();
     assert_eq!(cam.position, Vec3::new(0.0, 1.0, 4.0));
+}
+
+#[test]
+fn gltf_emissive_materials_emit_their_factor_times_strength() {
+    let dir = tempfile::tempdir().unwrap();
+    let materials = r#","extensionsUsed":["KHR_materials_emissive_strength"],
+        "materials":[{"emissiveFactor":[1,0.5,0.25],"extensions":{"KHR_materials_emissive_strength":{"emissiveStrength":4}}},
+                     {"emissiveFactor":[0.2,0.3,0.4]},
+                     {"name":"dull"}]"#;
+    for (index, want) in [(0, Color::new(4.0, 2.0, 1.0)), (1, Color::new(0.2, 0.3, 0.4)), (2, Color::ZERO)] {
+        let name = format!("emissive{index}.gltf");
+        let p = gltf_triangle(dir.path(), &name, 3, &format!(r#","material":{index}"#), materials);
+        let s = load_file(&p).unwrap();
+        let m = &s.materials[s.actors[0].materials[0] as usize];
+        assert_eq!(m.emission, want, "material {index}");
+    }
 }

@@ -1,4 +1,6 @@
-//! glTF materials: `baseColorFactor` (and alpha for `BLEND`) into [`Material`], and the
+//! glTF materials: `baseColorFactor` (and alpha for `BLEND`) into [`Material`],
+//! `emissiveFactor` times `KHR_materials_emissive_strength` into its emission (the
+//! radiance the path tracer's area lights emit; `emissiveTexture` is not read), and the
 //! `baseColorTexture` with its sampler and `KHR_texture_transform`, decoded only for
 //! materials that some primitive uses, each image once.
 
@@ -18,6 +20,11 @@ pub(super) fn convert(m: &gltf::Material) -> Material {
     if m.alpha_mode() == gltf::material::AlphaMode::Blend {
         mat.transparency = glam::Vec3::splat((1.0 - a).clamp(0.0, 1.0));
     }
+    // Linear RGB radiance (glTF's emissive colour is linear, like its base colour);
+    // negative or non-finite values emit nothing.
+    let strength = m.emissive_strength().unwrap_or(1.0);
+    let emission = glam::Vec3::from_array(m.emissive_factor()) * strength;
+    mat.emission = if emission.is_finite() { emission.max(glam::Vec3::ZERO) } else { glam::Vec3::ZERO };
     mat
 }
 
