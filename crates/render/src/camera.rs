@@ -2,7 +2,7 @@
 //! (view height), through pixel centres, image y pointing down.
 
 use dynray_geom::{Ray, Vec3};
-use dynray_scene::{Camera, Projection};
+use dynray_scene::{Camera, Clip, Projection};
 
 /// A camera resolved for one image size: an orthonormal frame and the half extents of
 /// the image window. Built once per frame, then asked for rays per pixel.
@@ -17,6 +17,7 @@ pub struct CameraRays {
     parallel: bool,
     width: f32,
     height: f32,
+    clip: Clip,
 }
 
 impl CameraRays {
@@ -45,21 +46,37 @@ impl CameraRays {
                 (if height.is_finite() && height > 0.0 { height * 0.5 } else { 1.0 }, true)
             }
         };
-        Self { origin, forward, right: right * (half_h * aspect), up: up * half_h, parallel, width: w, height: h }
+        // A clip that would leave nothing (or is not a number) clips nothing.
+        let clip = camera.clip;
+        let clip = if clip.near >= 0.0 && clip.far > clip.near { clip } else { Clip::NONE };
+        Self { origin, forward, right: right * (half_h * aspect), up: up * half_h, parallel, width: w, height: h, clip }
     }
 
     /// The ray through continuous image position `(px, py)` (pixels, y down; the centre
     /// of pixel `(x, y)` is `(x + 0.5, y + 0.5)`). Perspective rays start at the eye,
-    /// parallel rays on the plane through the eye; directions are unit length.
+    /// parallel rays on the plane through the eye; directions are unit length. The
+    /// camera's [`Clip`] bounds the ray's interval: `[near, far] / cos θ` for a
+    /// perspective ray at angle θ to the view axis (the planes are perpendicular to it),
+    /// `[near, far]` for a parallel one; without clip planes it is `[0, ∞)`.
     pub fn ray_at(&self, px: f32, py: f32) -> Ray {
         let sx = 2.0 * px / self.width - 1.0;
         let sy = 1.0 - 2.0 * py / self.height;
         let offset = self.right * sx + self.up * sy;
-        if self.parallel {
+        let ray = if self.parallel {
             Ray::new(self.origin + offset, self.forward)
         } else {
             Ray::new(self.origin, (self.forward + offset).normalize())
+        };
+        if self.clip == Clip::NONE {
+            return ray;
         }
+        let cos = if self.parallel { 1.0 } else { ray.dir.dot(self.forward) };
+        Ray::with_interval(ray.origin, ray.dir, self.clip.near / cos, self.clip.far / cos)
+    }
+
+    /// The near and far planes camera rays are clipped to ([`Clip::NONE`] when none).
+    pub fn clip(&self) -> Clip {
+        self.clip
     }
 
     /// The ray through the centre of pixel `(x, y)`.
@@ -126,7 +143,29 @@ mod tests {
     use super::*;
 
     fn cam(projection: Projection) -> Camera {
-        Camera { position: Vec3::new(0.0, 0.0, 5.0), look_at: Vec3::ZERO, up: Vec3::Y, projection }
+        Camera { position: Vec3::new(0.0, 0.0, 5.0), look_at: Vec3::ZERO, up: Vec3::Y, projection, clip: Clip::NONE }
+    }
+
+    #[test]
+    fn clip_planes_bound_the_ray_interval_along_the_view_axis() {
+        let clip = Clip { near: 2.0, far: 8.0 };
+        let c = CameraRays::new(&Camera { clip, ..cam(Projection::Perspective { fov_y_deg: 90.0 }) }, 4, 4);
+        // The centre ray runs along the axis: its interval is the planes' distances.
+        let r = c.ray_at(2.0, 2.0);
+        assert_eq!((r.tmin, r.tmax), (2.0, 8.0));
+        // A corner ray reaches the planes later, at the same depth along the axis.
+        let r = c.ray_at(0.0, 0.0);
+        let depth = |t: f32| (r.dir * t).dot(c.forward());
+        assert!((depth(r.tmin) - 2.0).abs() < 1e-5 && (depth(r.tmax) - 8.0).abs() < 1e-5, "{r:?}");
+        assert!(r.tmin > 2.0);
+        let p = CameraRays::new(&Camera { clip, ..cam(Projection::Parallel { height: 2.0 }) }, 4, 4).ray_at(0.0, 0.0);
+        assert_eq!((p.tmin, p.tmax), (2.0, 8.0));
+        // No clip, or one that would leave nothing: the whole ray.
+        for clip in [Clip::NONE, Clip { near: 3.0, far: 1.0 }, Clip { near: f32::NAN, far: 1.0 }] {
+            let r = CameraRays::new(&Camera { clip, ..cam(Projection::Perspective { fov_y_deg: 60.0 }) }, 4, 4)
+                .ray_at(1.0, 3.0);
+            assert_eq!((r.tmin, r.tmax), (0.0, f32::INFINITY));
+        }
     }
 
     #[test]

@@ -38,6 +38,7 @@ impl Camera {
                     look_at: c,
                     up: Vec3::Y,
                     projection: Projection::Perspective { fov_y_deg: FOV_Y_DEG },
+                    clip: crate::Clip::NONE,
                 };
             }
         }
@@ -55,6 +56,7 @@ impl Camera {
             look_at: c,
             up: Vec3::Y,
             projection: Projection::Perspective { fov_y_deg: FOV_Y_DEG },
+            clip: crate::Clip::NONE,
         }
     }
 }

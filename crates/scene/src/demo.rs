@@ -103,6 +103,7 @@ pub fn demo_scene_with(sphere_detail: u32) -> Scene {
         look_at: Vec3::new(0.0, 0.9, 0.0),
         up: Vec3::Y,
         projection: Projection::Perspective { fov_y_deg: 42.0 },
+        clip: crate::Clip::NONE,
     });
     s.settings = Settings { width: 800, height: 600, max_recursion_level: 6, min_weight: 0.01, spp: None };
     s.environment = Environment { background: Color::new(0.32, 0.48, 0.72), ambient: Color::splat(0.12), ior: 1.0 };

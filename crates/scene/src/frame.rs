@@ -57,6 +57,7 @@ impl Default for Frame {
                 look_at: Vec3::ZERO,
                 up: Vec3::Y,
                 projection: Projection::Perspective { fov_y_deg: 45.0 },
+                clip: crate::Clip::NONE,
             },
             settings: Settings::default(),
             environment: Environment::default(),

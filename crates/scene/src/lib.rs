@@ -26,7 +26,7 @@ pub use bsdf::{Bsdf, BsdfKind, Microfacet, Roughness};
 pub use error::LoadError;
 pub use frame::Frame;
 pub use load::{load_file, load_file_report, load_file_unshaded, load_mesh, FileFormat};
-pub use model::{Camera, Color, Environment, Finish, Light, LightKind, Material, Projection, Scene, Settings};
+pub use model::{Camera, Clip, Color, Environment, Finish, Light, LightKind, Material, Projection, Scene, Settings};
 pub use report::{LoadReport, Warning};
 pub use scn::{load_scn, load_scn_report, parse_scn_str};
 pub use shading::{NormalSource, Shading, DEFAULT_CREASE_DEG};

@@ -201,6 +201,31 @@ pub struct Camera {
     pub up: Vec3,
     /// Projection.
     pub projection: Projection,
+    /// Where along the view direction the camera starts and stops seeing.
+    pub clip: Clip,
+}
+
+/// The camera's near and far clipping planes, as distances along the view direction
+/// (Mitsuba's `near_clip`/`far_clip`): a camera ray sees what lies between the two
+/// planes, so geometry in front of the near plane is invisible. Only camera rays are
+/// clipped; shadow and secondary rays see everything.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Clip {
+    /// Distance of the near plane from the eye (0: no near plane).
+    pub near: f32,
+    /// Distance of the far plane from the eye (infinity: no far plane).
+    pub far: f32,
+}
+
+impl Clip {
+    /// No clipping: camera rays over `[0, ∞)`, as scene-language and mesh cameras.
+    pub const NONE: Clip = Clip { near: 0.0, far: f32::INFINITY };
+}
+
+impl Default for Clip {
+    fn default() -> Self {
+        Clip::NONE
+    }
 }
 
 impl Camera {
@@ -212,6 +237,7 @@ impl Camera {
             look_at: m.transform_point3(self.look_at),
             up: m.transform_vector3(self.up).normalize_or(self.up),
             projection: self.projection,
+            clip: self.clip,
         }
     }
 }

@@ -1,7 +1,7 @@
 //! The Mitsuba 3 scene loader: one test per element it reads, the shared reference and
 //! Cornell box files, and every error path (each naming the file and line).
 
-use dynray_scene::{load_file, load_file_report, BsdfKind, Color, LightKind, Microfacet, Projection, Scene};
+use dynray_scene::{load_file, load_file_report, BsdfKind, Clip, Color, LightKind, Microfacet, Projection, Scene};
 use glam::Vec3;
 use std::path::{Path, PathBuf};
 
@@ -52,6 +52,7 @@ fn reference_sphere_scene() {
     let want = 2.0 * ((20f64).to_radians().tan() * 0.75).atan().to_degrees();
     assert!((fov_y_deg as f64 - want).abs() < 1e-4 && (want - 30.537).abs() < 1e-3, "{fov_y_deg}");
     assert_eq!((s.settings.width, s.settings.height, s.settings.spp), (256, 192, Some(4096)));
+    assert_eq!(cam.clip, Clip { near: 0.01, far: 100000.0 });
     assert_eq!(s.settings.max_recursion_level, 1, "max_depth 2 is Whitted level 1");
     assert_eq!(s.lights.len(), 1);
     let l = s.lights[0];
@@ -192,11 +193,16 @@ fn default_bsdf_emitters_and_fov_axes() {
     .unwrap();
     let m = &s.materials[s.actors[0].materials[0] as usize];
     assert_eq!(m.emission, Color::new(1.0, 2.0, 3.0));
-    assert_eq!(m.bsdf.unwrap().kind, BsdfKind::Diffuse { reflectance: Color::splat(0.5) });
+    // Mitsuba's default BSDF is diffuse 0.5, but black on an emitter (shape.cpp): a lamp
+    // reflects nothing.
+    assert_eq!(m.bsdf.unwrap().kind, BsdfKind::Diffuse { reflectance: Color::ZERO });
+    assert_eq!(m.diffuse, Color::ZERO);
     // A flat spectrum of 1 in an emitter is E white, not sRGB white (Mitsuba 3.9.1).
     assert!(close(s.environment.background, Color::new(1.20479, 0.948291, 0.908916), 5e-4));
     assert_eq!(s.lights[0].kind, LightKind::Point { position: Vec3::new(1.0, 2.0, 3.0), falloff: 2 });
     assert_eq!(s.camera.unwrap().projection, Projection::Perspective { fov_y_deg: 60.0 });
+    // Mitsuba's default clip planes.
+    assert_eq!(s.camera.unwrap().clip, Clip { near: 1e-2, far: 1e4 });
     assert_eq!(s.settings.max_recursion_level, 64, "no integrator: unbounded depth, capped");
     for (axis, w, h, want) in [
         ("x", 200, 100, 32.2042),

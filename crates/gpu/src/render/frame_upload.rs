@@ -139,6 +139,12 @@ pub(crate) fn check_supported(frame: &Frame) -> Result<(), GpuError> {
             what: "textured materials (the GPU strategies shade untextured surfaces only; use --backend cpu)".into(),
         });
     }
+    // camera.wgsl's rays run over [0, ∞), as CameraRays' without clip planes.
+    if frame.camera.clip != dynray_scene::Clip::NONE {
+        return Err(GpuError::Unsupported {
+            what: "a camera with near/far clip planes (Mitsuba's near_clip/far_clip; use --backend cpu)".into(),
+        });
+    }
     Ok(())
 }
 

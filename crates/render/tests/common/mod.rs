@@ -4,7 +4,9 @@
 use dynray_accel::Brute;
 use dynray_geom::{TriangleMesh, Vec3};
 use dynray_render::{render, Film, RenderOptions, RenderStats};
-use dynray_scene::{Actor, Camera, Color, Environment, Frame, Light, LightKind, Material, Projection, Scene, Settings};
+use dynray_scene::{
+    Actor, Camera, Clip, Color, Environment, Frame, Light, LightKind, Material, Projection, Scene, Settings,
+};
 
 /// A material with every coefficient zero (black, opaque, not reflective), ior 1.
 pub fn black() -> Material {
@@ -42,12 +44,12 @@ pub fn frame(
 
 /// Perspective camera.
 pub fn look(position: Vec3, look_at: Vec3, fov_y_deg: f32) -> Camera {
-    Camera { position, look_at, up: Vec3::Y, projection: Projection::Perspective { fov_y_deg } }
+    Camera { position, look_at, up: Vec3::Y, projection: Projection::Perspective { fov_y_deg }, clip: Clip::NONE }
 }
 
 /// Parallel camera.
 pub fn parallel(position: Vec3, look_at: Vec3, height: f32) -> Camera {
-    Camera { position, look_at, up: Vec3::Y, projection: Projection::Parallel { height } }
+    Camera { position, look_at, up: Vec3::Y, projection: Projection::Parallel { height }, clip: Clip::NONE }
 }
 
 /// A point light without attenuation.

@@ -152,7 +152,7 @@ impl Parser<'_> {
             }
             Projection::Perspective { fov_y_deg }
         };
-        Ok((Camera { position, look_at, up, projection }, anim))
+        Ok((Camera { position, look_at, up, projection, clip: crate::Clip::NONE }, anim))
     }
 
     /// `environment { [background C] [ambient C] [ior R] }`; the keyword is consumed.

@@ -69,6 +69,7 @@ fn finish(path: &Path, loader: parser::Loader) -> Result<LoadReport, LoadError> 
             look_at: Vec3::NEG_Z,
             up: Vec3::Y,
             projection: Projection::Perspective { fov_y_deg },
+            clip: crate::Clip::NONE,
         });
         scene.animation.camera_node = Some(node);
     }

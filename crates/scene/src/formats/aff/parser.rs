@@ -204,6 +204,7 @@ impl Loader {
             look_at: view.at,
             up: view.up,
             projection: Projection::Perspective { fov_y_deg: view.angle },
+            clip: crate::Clip::NONE,
         });
         Ok(())
     }

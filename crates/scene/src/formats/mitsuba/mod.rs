@@ -203,12 +203,16 @@ impl<'a> Builder<'a> {
         let mut material = match bsdf {
             Some(b) => self.material_of(b)?,
             None => {
-                // Mitsuba's default: a diffuse BSDF of reflectance 0.5.
+                // Mitsuba's default: a diffuse BSDF of reflectance 0.5, black on an
+                // emitter (its shape.cpp), so a lamp reflects none of the light that
+                // reaches it (0.5 made the glass-and-metal scene's lamp bounce light back
+                // onto the floor: +0.5 % at max_depth >= 4).
+                let reflectance = if emitter.is_some() { 0.0 } else { 0.5 };
                 let m = Material {
-                    name: "default diffuse".into(),
-                    diffuse: Color::splat(0.5),
+                    name: if emitter.is_some() { "default emitter (black)" } else { "default diffuse" }.into(),
+                    diffuse: Color::splat(reflectance),
                     ambient: Color::ZERO,
-                    bsdf: Some(crate::Bsdf::diffuse(Color::splat(0.5))),
+                    bsdf: Some(crate::Bsdf::diffuse(Color::splat(reflectance))),
                     ..Material::default()
                 };
                 self.scene.materials.push(m);

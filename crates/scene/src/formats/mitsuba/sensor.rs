@@ -9,13 +9,14 @@
 //! film's aspect (so `render --width/--height` with another aspect keeps the vertical
 //! angle, not Mitsuba's axis).
 //!
-//! `near_clip` and `far_clip` are read and checked (`0 < near < far`) but not applied:
-//! dynray's camera rays start at the eye and are unbounded. Scenes that place geometry
-//! between the eye and the near plane to hide it would render differently.
+//! `near_clip` and `far_clip` (checked: `0 < near < far`) become the camera's
+//! [`Clip`]: as in Mitsuba, a camera ray sees only what lies between the planes at those
+//! distances along the view axis (Mitsuba moves the ray's origin onto the near plane;
+//! dynray keeps the eye as origin and starts the ray's interval there instead).
 
 use super::props::Props;
 use super::tree::Elem;
-use crate::{Camera, LoadError, Projection, Warning};
+use crate::{Camera, Clip, LoadError, Projection, Warning};
 use glam::{DMat4, DVec3};
 
 /// What a sensor says about the image.
@@ -96,6 +97,7 @@ pub(super) fn read_sensor(e: &Elem, warnings: &mut Vec<Warning>) -> Result<Senso
         look_at: (origin + forward).as_vec3(),
         up: up.normalize().as_vec3(),
         projection: Projection::Perspective { fov_y_deg },
+        clip: Clip { near: near as f32, far: far as f32 },
     };
     Ok(Sensor { camera, width, height, spp })
 }
