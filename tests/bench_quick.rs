@@ -9,7 +9,7 @@ use serde_json::Value;
 use std::path::Path;
 use std::process::Command;
 
-const PRESETS: [&str; 6] = ["standard", "seed000", "seed002", "seed003", "seed004", "dynamic"];
+const PRESETS: [&str; 7] = ["standard", "seed000", "seed002", "seed003", "seed004", "dynamic", "path"];
 
 /// Problems found in a report; empty when it is complete and consistent.
 fn check_report(r: &Value) -> Vec<String> {
@@ -91,6 +91,7 @@ fn check_report(r: &Value) -> Vec<String> {
         passes > 1 && conv.len() == passes && conv.iter().all(|e| *e > 0.0) && conv[passes - 1] < conv[0],
         format!("seed004_renderers: convergence {conv:?} over {passes} passes"),
     );
+    check_path(&r["path"], &mut p);
     match r["seed003"]["scenes"].as_array() {
         Some(scenes) if !scenes.is_empty() => {
             for sc in scenes {
@@ -174,6 +175,45 @@ fn check_report(r: &Value) -> Vec<String> {
 }
 
 /// Records `what` when `ok` is false.
+/// `--preset path`: every structure's image identical, speeds and errors positive, the
+/// convergence at 1, 2, 4, … spp with its error falling and Mitsuba's estimate beside it.
+fn check_path(path: &Value, p: &mut Vec<String>) {
+    let Some(scenes) = path["scenes"].as_array().filter(|v| !v.is_empty()) else {
+        p.push("path: missing or empty".into());
+        return;
+    };
+    for sc in scenes {
+        let name = &sc["name"];
+        let runs = sc["runs"].as_array().cloned().unwrap_or_default();
+        need(p, !runs.is_empty(), format!("path {name}: no run"));
+        for x in &runs {
+            let ok = x["image_identical"] == true
+                && [&x["build_ms"], &x["render_ms"], &x["samples_per_s"], &x["mrays_per_s"], &x["rmse"]]
+                    .iter()
+                    .all(|v| num(v) > 0.0)
+                && x["rays"].as_u64().is_some_and(|n| n > 0);
+            need(p, ok, format!("path {name}: inconsistent run {x}"));
+        }
+        let conv = sc["convergence"].as_array().cloned().unwrap_or_default();
+        let spp: Vec<u64> = conv.iter().filter_map(|q| q["spp"].as_u64()).collect();
+        let want: Vec<u64> = (0..conv.len() as u32).map(|k| 1 << k).collect();
+        need(p, conv.len() > 1 && spp == want, format!("path {name}: convergence spp {spp:?}"));
+        let err: Vec<f64> = conv.iter().map(|q| num(&q["rmse"])).collect();
+        need(
+            p,
+            err.iter().all(|e| *e > 0.0) && err.last() < err.first() && conv.iter().all(|q| num(&q["ms"]) > 0.0),
+            format!("path {name}: convergence errors {err:?}"),
+        );
+        need(p, conv.iter().all(|q| num(&q["mitsuba_ms"]) > 0.0), format!("path {name}: Mitsuba's times missing"));
+        let m = &sc["mitsuba"];
+        need(
+            p,
+            m["spp"] == 4096 && num(&m["render_s"]) > 0.0 && num(&m["rms_pixel_std"]) > 0.0,
+            format!("path {name}: Mitsuba's figures {m}"),
+        );
+    }
+}
+
 fn need(p: &mut Vec<String>, ok: bool, what: String) {
     if !ok {
         p.push(what);
@@ -279,6 +319,7 @@ fn quick_bench_of_every_preset_writes_a_complete_consistent_report() {
     primary[w]["nodes"] = (primary[w]["nodes"].as_f64().unwrap() + 1.0).into();
     bad["seed003"]["sweeps"]["lights"].as_array_mut().unwrap().pop();
     bad["seed004_renderers"]["runs"][1]["images_identical"] = false.into();
+    bad["path"]["scenes"][0]["convergence"].as_array_mut().unwrap().remove(1);
     let found = check_report(&bad).join("\n");
     for what in [
         "inconsistent ratio",
@@ -287,13 +328,20 @@ fn quick_bench_of_every_preset_writes_a_complete_consistent_report() {
         "does not add up",
         "light counts",
         "inconsistent run",
+        "convergence spp",
     ] {
         assert!(found.contains(what), "checker missed `{what}`:\n{found}");
     }
     let md = std::fs::read_to_string(out.path().join("report.md")).unwrap();
-    for heading in
-        ["## seed000", "## seed002", "## seed003", "## seed004", "### seed004: cumulative", "## Preset dynamic"]
-    {
+    for heading in [
+        "## seed000",
+        "## seed002",
+        "## seed003",
+        "## seed004",
+        "### seed004: cumulative",
+        "## Preset dynamic",
+        "## Preset path",
+    ] {
         assert!(md.contains(heading), "report.md lacks {heading}");
     }
     // --replot redraws from the JSON alone.

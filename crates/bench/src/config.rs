@@ -24,12 +24,22 @@ pub enum Preset {
     Seed004,
     /// Every vertex moves each frame: rebuild vs update, trace, time to image per frame.
     Dynamic,
+    /// The path tracer: samples/s and Mrays/s per structure, and its convergence towards
+    /// Mitsuba 3's references against Mitsuba's own time.
+    Path,
 }
 
 impl Preset {
     /// Every preset, in the order `--preset all` runs them.
-    pub const ALL: [Preset; 6] =
-        [Preset::Standard, Preset::Seed000, Preset::Seed002, Preset::Seed003, Preset::Seed004, Preset::Dynamic];
+    pub const ALL: [Preset; 7] = [
+        Preset::Standard,
+        Preset::Seed000,
+        Preset::Seed002,
+        Preset::Seed003,
+        Preset::Seed004,
+        Preset::Dynamic,
+        Preset::Path,
+    ];
 
     /// `--preset` spelling.
     pub fn name(self) -> &'static str {
@@ -40,6 +50,7 @@ impl Preset {
             Preset::Seed003 => "seed003",
             Preset::Seed004 => "seed004",
             Preset::Dynamic => "dynamic",
+            Preset::Path => "path",
         }
     }
 

@@ -239,6 +239,9 @@ pub fn render(r: &Report, png: bool) -> String {
     if let Some(p) = &r.seed003 {
         crate::presets::seed003::markdown(p, png, &mut s);
     }
+    if let Some(p) = &r.path {
+        crate::presets::path::markdown(p, png, &mut s);
+    }
 
     if let Some(d) = &r.dynamic {
         let _ = writeln!(

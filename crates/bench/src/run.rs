@@ -45,6 +45,7 @@ pub fn run(config: &BenchConfig) -> Result<Report> {
         seed004: None,
         seed004_renderers: None,
         dynamic: None,
+        path: None,
         gpu: None,
         mismatches: Vec::new(),
         notes: Vec::new(),
@@ -81,6 +82,9 @@ pub fn run(config: &BenchConfig) -> Result<Report> {
     }
     if config.presets.contains(&Preset::Dynamic) {
         report.dynamic = Some(presets::dynamic::run(config, &accels, &mut report.mismatches)?);
+    }
+    if config.presets.contains(&Preset::Path) {
+        report.path = Some(presets::path::run(config, &mut report.mismatches)?);
     }
     report.finished_utc = machine::now_utc();
     write_outputs(config, &report)?;
@@ -161,6 +165,9 @@ fn write_charts(config: &BenchConfig, report: &Report) -> Result<()> {
     }
     if let Some(r) = &report.seed004_renderers {
         charts::save(&presets::seed004_renderers::chart(r), out, "seed004-convergence", config.png)?;
+    }
+    if let Some(r) = &report.path {
+        charts::save(&presets::path::chart(r), out, "path-convergence", config.png)?;
     }
     Ok(())
 }

@@ -1,7 +1,9 @@
 //! The bench's presets beyond the standard measurements: each seed's experiment
-//! (seed000, seed002, seed003, seed004) and the dynamic-scene experiment.
+//! (seed000, seed002, seed003, seed004), the dynamic-scene experiment and the path
+//! tracer's measurements.
 
 pub mod dynamic;
+pub mod path;
 pub mod seed000;
 pub mod seed002;
 pub mod seed003;
