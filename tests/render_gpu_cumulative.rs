@@ -15,11 +15,14 @@ use support::{dynray, examples_dir, gpu_present, ok};
 const TOLERANCE: f32 = 1e-4;
 
 fn render_exr(scene: Option<&Path>, extra: &[&str], out: &Path) -> Vec<f32> {
-    let mut args = vec!["render", "-o", out.to_str().unwrap(), "--width", "48", "--height", "36", "--spp", "1"];
+    let mut args = vec!["render", "-o", out.to_str().unwrap(), "--width", "48", "--height", "36"];
     if let Some(s) = scene {
         args.insert(1, s.to_str().unwrap());
     }
     args.extend_from_slice(extra);
+    if !extra.contains(&"--spp") {
+        args.extend_from_slice(&["--spp", "1"]);
+    }
     ok(dynray(&args));
     let image = exr::prelude::read_all_flat_layers_from_file(out).unwrap();
     image.layer_data[0].channel_data.list.iter().flat_map(|c| c.sample_data.values_as_f32()).collect()
@@ -92,6 +95,29 @@ fn choices_are_the_cpus_and_passes_converge() {
     let e = errors;
     assert!(e[0] > 1e-3, "one pass must be noisy: {e:?}");
     assert!(e[1] < 0.6 * e[0] && e[2] < 0.6 * e[1], "RMSE by passes 1, 4, 16: {e:?}");
+}
+
+/// K = 1 with 2 samples per pixel and 2 passes: expanded paths are numbered `2·id + i`,
+/// each sample of a pixel and each pass has its own key, and the GPU still picks the
+/// CPU's children (the demo's glass and mirrors choose past the first bounce).
+#[test]
+fn expanded_paths_and_samples_choose_as_on_the_cpu() {
+    if !gpu_present() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let whitted = examples_dir().join("whitted.scn");
+    for (name, scene) in [("demo", None), ("whitted", Some(whitted.as_path()))] {
+        let c = ["--integrator", "cumulative", "--branch-depth", "1", "--spp", "2", "--passes", "2"];
+        let gpu_args: Vec<&str> = GPU.iter().chain(&c).copied().collect();
+        let gpu = render_exr(scene, &gpu_args, &dir.path().join(format!("{name}-gpu.exr")));
+        let cpu = render_exr(scene, &c, &dir.path().join(format!("{name}-cpu.exr")));
+        let full = render_exr(scene, &["--spp", "2"], &dir.path().join(format!("{name}-whitted.exr")));
+        let w = worst(&cpu, &gpu);
+        eprintln!("{name}, K = 1, 2 spp × 2 passes: GPU against CPU cumulative: largest difference {w:.3e}");
+        assert!(worst(&cpu, &full) > 1e-2, "{name}: K = 1 must choose somewhere");
+        assert!(w <= TOLERANCE, "{name}: the GPU chose other children (difference {w})");
+    }
 }
 
 #[test]
