@@ -1,6 +1,7 @@
 //! The frame on the device (group 0 of the render kernels): the BVH through [`GpuBvh`],
 //! the mesh arrays shading reads, materials, lights, camera and settings as Pod mirrors
-//! of shaders/render_scene.wgsl, and the CPU sampler's sub-pixel positions. Between
+//! of shaders/render_scene.wgsl, and the CPU sampler's sub-pixel positions and cumulative
+//! keys (one `next_u32` per sample, re-uploaded per pass of the cumulative tracer). Between
 //! frames each array is compared with what was uploaded last and only changed ones are
 //! written (a plain byte comparison: cheap next to tracing, and exact).
 
@@ -285,7 +286,7 @@ impl FrameUpload {
         materials.push(material(&Material::default()));
         let lights: Vec<GpuLight> = frame.lights.iter().map(light).collect();
         let normals: &[[f32; 3]] = mesh.normals.as_deref().unwrap_or(&[]);
-        let [a0, a1, a2, a3, a4, a5, a6, _] = &mut self.arrays;
+        let [a0, a1, a2, a3, a4, a5, a6, a7] = &mut self.arrays;
         written += Array::sync(&ctx, a0, "mesh positions", &mesh.positions)?;
         written += Array::sync(&ctx, a1, "mesh indices", &mesh.indices)?;
         written += Array::sync(&ctx, a2, "mesh normals", normals)?;
@@ -300,20 +301,24 @@ impl FrameUpload {
             what: format!("{w}x{h} pixels at {spp} samples ({samples} samples; at most 2^32 - 1)"),
         })?;
         let mut offsets = Vec::with_capacity(samples as usize);
+        let mut keys = Vec::with_capacity(samples as usize);
         for y in 0..h {
             for x in 0..w {
                 for s in 0..spp {
-                    let (ox, oy) = Sampler::new(seed, w, x, y, s, spp).pixel_offset();
+                    let mut sampler = Sampler::new(seed, w, x, y, s, spp);
+                    let (ox, oy) = sampler.pixel_offset();
                     offsets.push([ox, oy]);
+                    // The first pass's keys (Self::sync_keys).
+                    keys.push(sampler.next_u32());
                 }
             }
         }
         written += Array::sync(&ctx, a6, "sample positions", &offsets)?;
+        written += Array::sync(&ctx, a7, "sample keys", &keys)?;
         self.samples = samples;
         self.spp = spp;
         self.seed = seed;
         self.width = w;
-        written += self.sync_keys(0)?;
 
         let cam = CameraRays::new(&frame.camera, w, h).basis();
         let diag = mesh.bounds().extent().length();
