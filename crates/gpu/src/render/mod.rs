@@ -1,6 +1,8 @@
 //! Seed 003's three GPU tracing strategies (§3.10–3.12) over the frame's BVH, shading
 //! exactly as the CPU Whitted integrator (shaders/whitted_shade.wgsl), returning the CPU
-//! renderer's [`Film`]: wavefront, megakernel and hybrid (docs/gpu.md).
+//! renderer's [`Film`]: wavefront, megakernel and hybrid (docs/gpu.md). The wavefront
+//! also runs seed 004's cumulative integrator, choosing the CPU's children
+//! ([`GpuRenderOptions::branch_depth`]).
 
 mod compact;
 mod frame_upload;
@@ -243,7 +245,7 @@ impl GpuRenderer {
         };
         let mut rec = Recorder::new(&ctx);
         let mut colors: Vec<[f32; 4]> = vec![[0.0; 4]; total as usize];
-        let mut secondary = 0u64;
+        let (mut secondary, mut shadow) = (0u64, 0u64);
         let mut uploaded_bytes = uploaded_bytes;
         // Whitted's wavefront is the cumulative one expanding every hit.
         let branch_depth = options.branch_depth.unwrap_or(u32::MAX);
@@ -275,14 +277,17 @@ impl GpuRenderer {
                 }
                 film.add_sum(p as u32 % w.max(1), p as u32 / w.max(1), sum, spp as f32);
             }
+            // The device counts in u32: read and reset per pass so passes cannot wrap it.
+            let mut c = [0u32; 4];
+            rec.read(&counters, &mut c)?;
+            ctx.queue.write_buffer(&counters, 0, &[0u8; 16]);
+            shadow += c[0] as u64;
+            secondary += c[1] as u64;
         }
-        let mut c = [0u32; 4];
-        rec.read(&counters, &mut c)?;
-        secondary += c[1] as u64;
         let s = rec.seconds;
         let stats = RenderStats {
             primary_rays: total as u64 * passes as u64,
-            shadow_rays: c[0] as u64,
+            shadow_rays: shadow,
             secondary_rays: secondary,
             tiles: 0,
         };
