@@ -61,12 +61,35 @@ fn gpu_frames_are_the_cpus_with_every_builder_and_policy() {
     }
 }
 
+/// `--integrator cumulative` on the GPU goes through the animation seam and gives the CPU
+/// cumulative's frames. animated.scn has no glass and level limit 3, so no hit chooses
+/// here: the choices are tested in tests/render_gpu_cumulative.rs.
+#[test]
+fn gpu_cumulative_frames_are_the_cpus() {
+    if !gpu_present() {
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let (cpu, gpu) = (tmp.path().join("cpu"), tmp.path().join("gpu"));
+    ok(animate(&cpu, &["--integrator", "cumulative"]));
+    ok(animate(&gpu, &["--integrator", "cumulative", "--backend", "gpu"]));
+    for k in 0..3 {
+        let (a, b) = (frame(&cpu, k), frame(&gpu, k));
+        let worst = a.as_raw().iter().zip(b.as_raw()).map(|(x, y)| x.abs_diff(*y)).max().unwrap();
+        assert!(worst <= 1, "frame {k}: a channel differs by {worst}");
+    }
+}
+
 #[test]
 fn what_the_gpu_cannot_animate_is_refused_before_writing() {
     let tmp = tempfile::tempdir().unwrap();
-    let cases: [(&[&str], &str); 3] = [
+    let cases: [(&[&str], &str); 4] = [
+        (
+            &["--backend", "gpu", "--gpu-strategy", "megakernel", "--integrator", "cumulative"],
+            "--gpu-strategy wavefront only",
+        ),
         (&["--gpu-build", "lbvh"], "add --backend gpu"),
-        (&["--backend", "gpu", "--integrator", "path"], "whitted integrator only"),
+        (&["--backend", "gpu", "--integrator", "path"], "whitted and cumulative integrators only"),
         (&["--backend", "gpu", "--accel", "bih"], "traces `bvh` only"),
     ];
     for (i, (extra, needle)) in cases.into_iter().enumerate() {

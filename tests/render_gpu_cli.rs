@@ -73,7 +73,7 @@ fn what_the_gpu_does_not_render_is_refused() {
         args.extend_from_slice(extra);
         dynray(&args)
     };
-    fails_with(with(&["--integrator", "path"]), "whitted integrator only");
+    fails_with(with(&["--integrator", "path"]), "whitted and cumulative integrators only");
     fails_with(with(&["--accel", "bih"]), "traces `bvh` only");
     assert!(!out.exists(), "a refused render left an image");
 }

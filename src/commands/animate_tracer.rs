@@ -14,7 +14,7 @@
 use anyhow::{bail, Context, Result};
 use dynray_accel::{Accel, AccelKind, AccelSpec, Bvh, BvhParams, LiveAccel, UpdateAction, UpdatePolicy, UpdateReport};
 use dynray_gpu::{GpuBuild, GpuBvh, GpuContext, GpuOptions, GpuRenderOptions, GpuRenderer, GpuStrategy};
-use dynray_render::{render, Film, RenderOptions, RenderStats};
+use dynray_render::{render, Film, IntegratorKind, RenderOptions, RenderStats};
 use dynray_scene::Frame;
 use std::any::Any;
 use std::sync::Arc;
@@ -69,12 +69,10 @@ impl Tracer {
         Tracer::Cpu { spec: spec.clone(), policy, live: None }
     }
 
-    /// The GPU tracer (a BVH; `options` must ask for the Whitted integrator, the one the
-    /// GPU strategies shade with).
+    /// The GPU tracer (a BVH; `options` must ask for an integrator the GPU has:
+    /// [`gpu_branch_depth`]).
     pub fn gpu(spec: &AccelSpec, policy: UpdatePolicy, options: &RenderOptions, gpu: GpuChoice<'_>) -> Result<Self> {
-        if options.integrator != dynray_render::IntegratorKind::Whitted {
-            bail!("the GPU backend renders with the whitted integrator only (got `{}`)", options.integrator);
-        }
+        gpu_branch_depth(options, gpu.strategy)?;
         if spec.kind != AccelKind::Bvh {
             bail!("the GPU backend traces `bvh` only (got `{}`); use --accel bvh or --backend cpu", spec.kind.name());
         }
@@ -113,7 +111,13 @@ impl Tracer {
         match self {
             Tracer::Cpu { live, .. } => Ok(render(frame, live.as_ref().expect("updated first").accel(), options)),
             Tracer::Gpu(g) => {
-                let o = GpuRenderOptions { strategy: g.strategy, spp: options.spp, seed: options.seed };
+                let o = GpuRenderOptions {
+                    strategy: g.strategy,
+                    spp: options.spp,
+                    seed: options.seed,
+                    branch_depth: gpu_branch_depth(options, g.strategy)?,
+                    passes: options.passes,
+                };
                 let out = if let Some(live) = &g.live {
                     let any: &dyn Any = live.accel();
                     let bvh = any.downcast_ref::<Bvh>().expect("the GPU tracer keeps a bvh");
@@ -138,6 +142,20 @@ impl Tracer {
                 format!("{} {} on {} ({} build, {})", g.spec, g.policy, g.ctx.adapter().name, g.build, g.strategy)
             }
         }
+    }
+}
+
+/// The GPU's integrator for `options`: `None` for Whitted's, `Some(K)` for the
+/// cumulative one (the wavefront strategy's kernel only); an error, before any device
+/// work, for the others.
+pub fn gpu_branch_depth(options: &RenderOptions, strategy: GpuStrategy) -> Result<Option<u32>> {
+    match options.integrator {
+        IntegratorKind::Whitted => Ok(None),
+        IntegratorKind::Cumulative if strategy == GpuStrategy::Wavefront => Ok(Some(options.params.branch_depth)),
+        IntegratorKind::Cumulative => {
+            bail!("the cumulative integrator runs on the GPU with --gpu-strategy wavefront only (got `{strategy}`)")
+        }
+        other => bail!("the GPU backend renders with the whitted and cumulative integrators only (got `{other}`)"),
     }
 }
 

@@ -66,7 +66,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
 
     a.backend.check()?;
     if let Some(gpu) = a.backend.gpu_options() {
-        return render_on_gpu(&a, &frame, &label, spp, &gpu);
+        return render_on_gpu(&a, &frame, &label, (spp, passes, params), &gpu);
     }
     let t0 = Instant::now();
     let accel = a
@@ -159,10 +159,15 @@ fn cumulative_flags(a: &RenderArgs, spp: u32) -> Result<(IntegratorParams, u32)>
 /// `--backend gpu`: the frame's BVH built where `--gpu-build` says (on the CPU and
 /// uploaded, or on the device), traced and shaded there by the chosen strategy (Whitted
 /// shading, as the CPU's).
-fn render_on_gpu(a: &RenderArgs, frame: &Frame, label: &str, spp: u32, gpu: &GpuOptions) -> Result<()> {
-    if a.integrator != IntegratorKind::Whitted {
-        bail!("the GPU backend renders with the whitted integrator only (got `{}`)", a.integrator);
-    }
+fn render_on_gpu(
+    a: &RenderArgs,
+    frame: &Frame,
+    label: &str,
+    (spp, passes, params): (u32, u32, IntegratorParams),
+    gpu: &GpuOptions,
+) -> Result<()> {
+    let cpu_options = RenderOptions { integrator: a.integrator, params, passes, ..Default::default() };
+    let branch_depth = super::animate_tracer::gpu_branch_depth(&cpu_options, a.gpu_strategy)?;
     if a.aov.is_some() {
         bail!("--aov is rendered on the CPU only; drop --backend gpu");
     }
@@ -173,7 +178,7 @@ fn render_on_gpu(a: &RenderArgs, frame: &Frame, label: &str, spp: u32, gpu: &Gpu
     let params = a.accel.read().with_context(cannot_build)?;
     let ctx = Arc::new(GpuContext::new(gpu)?);
     let mut renderer = GpuRenderer::new(ctx.clone())?;
-    let options = GpuRenderOptions { strategy: a.gpu_strategy, spp, seed: a.seed };
+    let options = GpuRenderOptions { strategy: a.gpu_strategy, spp, seed: a.seed, branch_depth, passes };
     let t0 = Instant::now();
     let how = a.backend.gpu_build;
     let (out, build) = if how == GpuBuild::Cpu {
@@ -188,16 +193,17 @@ fn render_on_gpu(a: &RenderArgs, frame: &Frame, label: &str, spp: u32, gpu: &Gpu
     let out = out.with_context(|| format!("{label}: cannot render on the GPU"))?;
     write_image(&out.film, &a.output)?;
     let secs = out.timings.total.max(1e-9);
+    let samples = if passes > 1 { format!("{spp} spp × {passes} passes") } else { format!("{spp} spp") };
     eprintln!(
-        "{label}: {} triangles, bvh build ({how}) {:.1} ms, {} on {} {:.1} ms ({}x{}, {} spp, {} rays, {:.2} Mrays/s) -> {}",
+        "{label}: {} triangles, bvh build ({how}) {:.1} ms, {} {} on {} {:.1} ms ({}x{}, {samples}, {} rays, {:.2} Mrays/s) -> {}",
         thousands(frame.mesh.triangle_count()),
         build.as_secs_f64() * 1e3,
+        a.integrator,
         a.gpu_strategy,
         ctx.adapter().name,
         secs * 1e3,
         out.film.width(),
         out.film.height(),
-        spp,
         thousands(out.stats.total_rays() as usize),
         out.stats.total_rays() as f64 / secs / 1e6,
         a.output.display()

@@ -18,6 +18,8 @@ fn camera_ray(k: u32, local: u32) -> RayRec {
     r.level = 1u;
     r.thr = vec3<f32>(1.0);
     r.weight = 1.0;
+    r.path = 1u;
+    r.key = keys[k];
     if scene.cam_parallel != 0u {
         r.org = scene.cam_origin + offset;
         r.dir = scene.cam_forward;

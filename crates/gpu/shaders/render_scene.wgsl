@@ -77,3 +77,6 @@ struct SceneParams {
 // Sub-pixel position of every pixel sample (pixel-major: sample k = pixel · spp + s),
 // from the CPU's Sampler, so the GPU's camera rays are the CPU's.
 @group(0) @binding(10) var<storage, read> offsets: array<vec2<f32>>;
+// The cumulative integrator's key of every pixel sample of the pass (the first next_u32
+// of the CPU's sampler of that sample), uploaded per pass.
+@group(0) @binding(11) var<storage, read> keys: array<u32>;

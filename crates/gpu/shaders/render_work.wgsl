@@ -1,7 +1,7 @@
 // The queues and outputs of the render kernels (group 1, bound per dispatch by
 // src/render/work.rs; a kernel uses the slots it needs, the others hold placeholders).
 
-// A ray waiting to be traced: 48 bytes (RayRec in src/render/work.rs).
+// A ray waiting to be traced: 64 bytes (RayRec in src/render/work.rs).
 struct RayRec {
     org: vec3<f32>,
     // Pixel sample it contributes to (k = pixel · spp + s).
@@ -13,6 +13,12 @@ struct RayRec {
     thr: vec3<f32>,
     // Seed 003's scalar weight: parent weight × max component of the coefficient.
     weight: f32,
+    // The cumulative integrator's path number (crates/render/src/cumulative/paths.rs
+    // `id`) and its sample's key: what its choice hashes (choice_random).
+    path: u32,
+    key: u32,
+    _pad0: u32,
+    _pad1: u32,
 }
 
 struct Work {

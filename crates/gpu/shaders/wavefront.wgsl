@@ -45,7 +45,12 @@ fn wf_trace(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 
 // Slots: rays_in (the wave), hits, list_in (wave indices of the hits), rays_out and
-// flags (two child slots per shaded ray), contrib.
+// flags (two child slots per shaded ray), contrib. work.a: the branch depth K of seed
+// 004's cumulative integrator (0xffffffff for Whitted): hits of rays of level <= K
+// expand both children (numbered 2·path, 2·path + 1); past K a hit with two children
+// continues into one, reflection with probability p (reflect_probability) against
+// choice_random, its throughput divided by its probability, the path number kept —
+// crates/render/src/cumulative/bounce.rs rule for rule.
 @compute @workgroup_size(64)
 fn wf_shade(@builtin(global_invocation_id) gid: vec3<u32>) {
     let j = wave_index(gid);
@@ -56,13 +61,29 @@ fn wf_shade(@builtin(global_invocation_id) gid: vec3<u32>) {
     let r = rays_in[i];
     let sh = shade(r, hits[i]);
     contrib[i] = vec4<f32>(no_nan(r.thr * sh.color), 0.0);
-    flags[2u * j] = select(0u, 1u, sh.children >= 1u);
-    flags[2u * j + 1u] = select(0u, 1u, sh.children == 2u);
-    if sh.children >= 1u {
-        rays_out[2u * j] = sh.child0;
+    var children = sh.children;
+    var c0 = sh.child0;
+    var c1 = sh.child1;
+    if r.level <= work.a {
+        c0.path = 2u * r.path;
+        c1.path = 2u * r.path + 1u;
+    } else if children == 2u {
+        let pr = reflect_probability(sh.coef0, sh.coef1);
+        if choice_random(r.key, r.level, r.path) < pr {
+            c0.thr = c0.thr / pr;
+        } else {
+            c0 = c1;
+            c0.thr = c1.thr / (1.0 - pr);
+        }
+        children = 1u;
     }
-    if sh.children == 2u {
-        rays_out[2u * j + 1u] = sh.child1;
+    flags[2u * j] = select(0u, 1u, children >= 1u);
+    flags[2u * j + 1u] = select(0u, 1u, children == 2u);
+    if children >= 1u {
+        rays_out[2u * j] = c0;
+    }
+    if children == 2u {
+        rays_out[2u * j + 1u] = c1;
     }
     count_rays(sh.shadow_rays, 0u);
 }

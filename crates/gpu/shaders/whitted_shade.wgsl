@@ -286,6 +286,9 @@ struct Shaded {
     children: u32,
     child0: RayRec,
     child1: RayRec,
+    // The children's coefficients (the cumulative integrator's choice weighs them).
+    coef0: vec3<f32>,
+    coef1: vec3<f32>,
     shadow_rays: u32,
 }
 
@@ -302,6 +305,8 @@ fn spawn(r: RayRec, s: Surf, dir: vec3<f32>, coef: vec3<f32>, eps: f32, out: ptr
     (*out).level = r.level + 1u;
     (*out).thr = r.thr * coef;
     (*out).weight = w;
+    (*out).path = r.path;
+    (*out).key = r.key;
     return true;
 }
 
@@ -386,17 +391,53 @@ fn shade(r: RayRec, h: Hit) -> Shaded {
     var child: RayRec;
     if max_element(mirror) > 0.0 && spawn(r, s, reflect3(d, s.ns), mirror, eps, &child) {
         out.child0 = child;
+        out.coef0 = mirror;
         out.children = 1u;
     }
     if transmitted && spawn(r, s, tdir, tcoef, eps, &child) {
         if out.children == 0u {
             out.child0 = child;
+            out.coef0 = tcoef;
         } else {
             out.child1 = child;
+            out.coef1 = tcoef;
         }
         out.children = out.children + 1u;
     }
     return out;
+}
+
+// The PCG hash of Jarzynski & Olano, "Hash Functions for GPU Rendering" (JCGT 2020):
+// crates/render/src/sampler.rs `pcg_hash`, bit for bit (u32 arithmetic wraps in WGSL).
+fn pcg_hash(v: u32) -> u32 {
+    let state = v * 747796405u + 2891336453u;
+    let word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    return (word >> 22u) ^ word;
+}
+
+// dynray_render::choice_random: the cumulative integrator's number in [0, 1) for the
+// choice of path `path` at ray level `level` of the sample keyed `key`. The CPU's bits:
+// a 24-bit integer times 2^-24 is exact in f32.
+fn choice_random(key: u32, level: u32, path: u32) -> f32 {
+    let h = pcg_hash(key ^ pcg_hash(level ^ pcg_hash(path)));
+    return f32(h >> 8u) * (1.0 / 16777216.0);
+}
+
+// crates/render/src/cumulative/bounce.rs `reflect_probability`, in its operations: the
+// reflected coefficient's share of the larger components, 0.5 where they give none,
+// clamped to [EPSILON, 1 - EPSILON] where one share vanishes.
+fn reflect_probability(cr: vec3<f32>, ct: vec3<f32>) -> f32 {
+    let a = fmax(max_element(cr), 0.0);
+    let b = fmax(max_element(ct), 0.0);
+    let p = a / (a + b);
+    if p > 0.0 && p < 1.0 {
+        return p;
+    }
+    if !(a + b > 0.0) || !is_finite_f(p) {
+        return 0.5;
+    }
+    // f32::EPSILON and 1 - f32::EPSILON, by their bits.
+    return clamp(p, bitcast<f32>(0x34000000u), bitcast<f32>(0x3f7ffffeu));
 }
 
 // A contribution with NaN channels zeroed (Whitted::trace does so for each ray's colour).

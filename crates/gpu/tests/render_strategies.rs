@@ -19,7 +19,7 @@ fn every_strategy_matches_the_cpu_whitted_image() {
     let (cpu, _) = render(&frame, &bvh, &RenderOptions { spp, ..Default::default() });
     let mut r = GpuRenderer::new(ctx).unwrap();
     for strategy in [GpuStrategy::Megakernel, GpuStrategy::Wavefront, GpuStrategy::Hybrid] {
-        let g = r.render(&frame, &bvh, &GpuRenderOptions { strategy, spp, seed: 0 }).unwrap();
+        let g = r.render(&frame, &bvh, &GpuRenderOptions::whitted(strategy, spp, 0)).unwrap();
         let (a, b) = (cpu.pixels(), g.film.pixels());
         let mut max = 0f32;
         let mut differing = 0;

@@ -38,7 +38,7 @@ pub use intersector::{Geometry, SceneIntersector, TriangleGeometry};
 pub use output::{write_aov, write_image, OutputFormat};
 pub use path::{PathTracer, Strategy as PathStrategy, MAX_PATH_DEPTH, RR_DEPTH};
 pub use render::{render, render_aov, render_with, PassCallback, RenderOptions, RenderStats, BATCH_RAYS};
-pub use sampler::Sampler;
+pub use sampler::{choice_random, Sampler};
 pub use shading::MAX_LEVEL_CAP;
 pub use shadow::{filter as shadow_filter, Shadows, MAX_SHADOW_CROSSINGS};
 pub use surface::{GeometryRef, SurfaceHit};

@@ -72,6 +72,27 @@ impl Sampler {
     }
 }
 
+/// The uniform number in `[0, 1)` with which seed 004's cumulative integrator chooses a
+/// child at the hit of path `path` at ray level `level` of the camera sample whose key
+/// is `key` (the first [`Sampler::next_u32`] of that sample's sampler).
+///
+/// Stateless, and built from 32-bit integer operations only, so that a GPU kernel
+/// computes the same bits (crates/gpu/shaders/whitted_shade.wgsl `choice_random`):
+/// three rounds of the PCG hash (Jarzynski & Olano, "Hash Functions for GPU Rendering",
+/// JCGT 9(3), 2020: one PCG32 step then the RXS-M-XS output permutation), chained
+/// `pcg(key ^ pcg(level ^ pcg(path)))`; the top 24 bits scaled by 2^-24 (exact in f32).
+pub fn choice_random(key: u32, level: u32, path: u32) -> f32 {
+    let h = pcg_hash(key ^ pcg_hash(level ^ pcg_hash(path)));
+    (h >> 8) as f32 * (1.0 / (1u32 << 24) as f32)
+}
+
+/// The PCG hash of Jarzynski & Olano (2020), a bijection of `u32`.
+fn pcg_hash(v: u32) -> u32 {
+    let state = v.wrapping_mul(747_796_405).wrapping_add(2_891_336_453);
+    let word = ((state >> ((state >> 28) + 4)) ^ state).wrapping_mul(277_803_737);
+    (word >> 22) ^ word
+}
+
 /// SplitMix64's finaliser: a bijective 64-bit mix, so distinct pixels get distinct streams.
 fn mix64(mut z: u64) -> u64 {
     z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
@@ -227,6 +248,23 @@ mod tests {
                 "n {n}: {fh} of samples in y >= 0.9, {fl} in x < 0.1"
             );
         }
+    }
+
+    /// Pinned values: the GPU's `choice_random` must give these bits too (the GPU
+    /// cumulative test compares images that depend on them).
+    #[test]
+    fn choice_numbers_are_pinned_and_uniform() {
+        assert_eq!(pcg_hash(0), 129_708_002);
+        assert_eq!(pcg_hash(1), 2_831_084_092);
+        let (mut sum, n) = (0.0f64, 100_000u32);
+        for i in 0..n {
+            let u = choice_random(i / 7, i % 7 + 1, i % 3);
+            assert!((0.0..1.0).contains(&u));
+            sum += u as f64;
+        }
+        assert!((sum / n as f64 - 0.5).abs() < 0.01, "{}", sum / n as f64);
+        assert_ne!(choice_random(5, 2, 1).to_bits(), choice_random(5, 2, 2).to_bits());
+        assert_ne!(choice_random(5, 2, 1).to_bits(), choice_random(5, 3, 1).to_bits());
     }
 
     #[test]

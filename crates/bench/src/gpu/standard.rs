@@ -106,7 +106,7 @@ fn time_to_image(
     frame.settings.width = input.width;
     frame.settings.height = input.height;
     let defaults = RenderOptions::default();
-    let options = GpuRenderOptions { strategy: STRATEGY, spp: defaults.spp, seed: defaults.seed };
+    let options = GpuRenderOptions::whitted(STRATEGY, defaults.spp, defaults.seed);
     let (mut tti, mut rend) = (Vec::new(), Vec::new());
     let mut rays = 0;
     for run in 0..=input.repeat.max(1) {

@@ -48,7 +48,7 @@ pub fn strategies(
     let defaults = RenderOptions::default();
     let mut out = Vec::new();
     for strategy in STRATEGIES {
-        let options = GpuRenderOptions { strategy, spp: defaults.spp, seed: defaults.seed };
+        let options = GpuRenderOptions::whitted(strategy, defaults.spp, defaults.seed);
         let mut runs = Vec::new();
         let mut last = None;
         for run in 0..=repeat.max(1) {

@@ -1,6 +1,7 @@
 //! The frame on the device (group 0 of the render kernels): the BVH through [`GpuBvh`],
 //! the mesh arrays shading reads, materials, lights, camera and settings as Pod mirrors
-//! of shaders/render_scene.wgsl, and the CPU sampler's sub-pixel positions. Between
+//! of shaders/render_scene.wgsl, and the CPU sampler's sub-pixel positions and cumulative
+//! keys (one `next_u32` per sample, re-uploaded per pass of the cumulative tracer). Between
 //! frames each array is compared with what was uploaded last and only changed ones are
 //! written (a plain byte comparison: cheap next to tracing, and exact).
 
@@ -193,16 +194,34 @@ pub(crate) enum Tree<'a> {
 pub(crate) struct FrameUpload {
     ctx: Arc<GpuContext>,
     bvh: Option<(GpuBvh, Vec<u8>)>,
-    arrays: [Option<Array>; 7],
+    arrays: [Option<Array>; 8],
     params: Option<(wgpu::Buffer, SceneParams)>,
     /// Samples of the uploaded sub-pixel positions.
     pub samples: u32,
     pub spp: u32,
+    seed: u64,
+    width: u32,
 }
 
 impl FrameUpload {
     pub fn new(ctx: Arc<GpuContext>) -> Self {
-        Self { ctx, bvh: None, arrays: Default::default(), params: None, samples: 0, spp: 1 }
+        Self { ctx, bvh: None, arrays: Default::default(), params: None, samples: 0, spp: 1, seed: 0, width: 1 }
+    }
+
+    /// The cumulative integrator's key of every pixel sample of pass `first_sample / spp`
+    /// (the first `next_u32` of the CPU's sampler of sample `first_sample + s`, as the
+    /// CPU render loop makes it): what the GPU's choices hash, so that they are the
+    /// CPU's. Returns the bytes written.
+    pub fn sync_keys(&mut self, first_sample: u32) -> Result<u64, GpuError> {
+        let (w, spp, seed) = (self.width.max(1), self.spp, self.seed);
+        let pixels = self.samples / spp;
+        let mut keys = Vec::with_capacity(self.samples as usize);
+        for p in 0..pixels {
+            for s in 0..spp {
+                keys.push(Sampler::new(seed, w, p % w, p / w, first_sample.wrapping_add(s), spp).next_u32());
+            }
+        }
+        Array::sync(&self.ctx, &mut self.arrays[7], "sample keys", &keys)
     }
 
     /// The BVH uploaded, once [`Self::sync`] ran.
@@ -273,7 +292,7 @@ impl FrameUpload {
         materials.push(material(&Material::default()));
         let lights: Vec<GpuLight> = frame.lights.iter().map(light).collect();
         let normals: &[[f32; 3]] = mesh.normals.as_deref().unwrap_or(&[]);
-        let [a0, a1, a2, a3, a4, a5, a6] = &mut self.arrays;
+        let [a0, a1, a2, a3, a4, a5, a6, a7] = &mut self.arrays;
         written += Array::sync(&ctx, a0, "mesh positions", &mesh.positions)?;
         written += Array::sync(&ctx, a1, "mesh indices", &mesh.indices)?;
         written += Array::sync(&ctx, a2, "mesh normals", normals)?;
@@ -288,17 +307,24 @@ impl FrameUpload {
             what: format!("{w}x{h} pixels at {spp} samples ({samples} samples; at most 2^32 - 1)"),
         })?;
         let mut offsets = Vec::with_capacity(samples as usize);
+        let mut keys = Vec::with_capacity(samples as usize);
         for y in 0..h {
             for x in 0..w {
                 for s in 0..spp {
-                    let (ox, oy) = Sampler::new(seed, w, x, y, s, spp).pixel_offset();
+                    let mut sampler = Sampler::new(seed, w, x, y, s, spp);
+                    let (ox, oy) = sampler.pixel_offset();
                     offsets.push([ox, oy]);
+                    // The first pass's keys (Self::sync_keys).
+                    keys.push(sampler.next_u32());
                 }
             }
         }
         written += Array::sync(&ctx, a6, "sample positions", &offsets)?;
+        written += Array::sync(&ctx, a7, "sample keys", &keys)?;
         self.samples = samples;
         self.spp = spp;
+        self.seed = seed;
+        self.width = w;
 
         let cam = CameraRays::new(&frame.camera, w, h).basis();
         let diag = mesh.bounds().extent().length();
@@ -347,7 +373,7 @@ impl FrameUpload {
         let [nodes, tris, ids] = bvh.buffers();
         let arr = |i: usize| &self.arrays[i].as_ref().expect("sync before group").buffer;
         let params = &self.params.as_ref().expect("sync before group").0;
-        let list: [(u32, &wgpu::Buffer); 11] = [
+        let list: [(u32, &wgpu::Buffer); 12] = [
             (0, nodes),
             (1, tris),
             (2, ids),
@@ -359,6 +385,7 @@ impl FrameUpload {
             (8, arr(5)),
             (9, params),
             (10, arr(6)),
+            (11, arr(7)),
         ];
         let entries: Vec<_> = list
             .iter()

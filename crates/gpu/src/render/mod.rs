@@ -1,6 +1,8 @@
 //! Seed 003's three GPU tracing strategies (§3.10–3.12) over the frame's BVH, shading
 //! exactly as the CPU Whitted integrator (shaders/whitted_shade.wgsl), returning the CPU
-//! renderer's [`Film`]: wavefront, megakernel and hybrid (docs/gpu.md).
+//! renderer's [`Film`]: wavefront, megakernel and hybrid (docs/gpu.md). The wavefront
+//! also runs seed 004's cumulative integrator, choosing the CPU's children
+//! ([`GpuRenderOptions::branch_depth`]).
 
 mod compact;
 mod frame_upload;
@@ -71,8 +73,21 @@ pub struct GpuRenderOptions {
     pub strategy: GpuStrategy,
     /// Samples per pixel (the CPU sampler's positions).
     pub spp: u32,
-    /// Seed of the sample positions.
+    /// Seed of the sample positions (and of the cumulative integrator's choices).
     pub seed: u64,
+    /// `Some(K)`: seed 004's cumulative integrator with branch depth `K` (the CPU's
+    /// `--integrator cumulative`, wavefront strategy only); `None`: Whitted's.
+    pub branch_depth: Option<u32>,
+    /// Passes of `spp` samples accumulated into the film, as the CPU render loop's
+    /// (pass `p` uses sample indices `p · spp ..`); at least 1.
+    pub passes: u32,
+}
+
+impl GpuRenderOptions {
+    /// Whitted's integrator, one pass.
+    pub fn whitted(strategy: GpuStrategy, spp: u32, seed: u64) -> Self {
+        Self { strategy, spp, seed, branch_depth: None, passes: 1 }
+    }
 }
 
 /// Seconds per stage of one render.
@@ -194,6 +209,22 @@ impl GpuRenderer {
         options: &GpuRenderOptions,
     ) -> Result<GpuRender, GpuError> {
         frame_upload::check_supported(frame)?;
+        if options.branch_depth.is_some() && options.strategy != GpuStrategy::Wavefront {
+            return Err(GpuError::Unsupported {
+                what: format!(
+                    "the cumulative integrator with the {} strategy (its kernel is the wavefront's: \
+                     --gpu-strategy wavefront)",
+                    options.strategy
+                ),
+            });
+        }
+        let passes = options.passes.max(1);
+        let spp = options.spp.max(1);
+        if spp.checked_mul(passes).is_none() {
+            return Err(GpuError::Unsupported {
+                what: format!("{passes} passes of {spp} samples (over 2^32 samples)"),
+            });
+        }
         let t0 = Instant::now();
         let uploaded_bytes = self.upload.sync(frame, tree, options.spp, options.seed)?;
         let upload = t0.elapsed().as_secs_f64();
@@ -205,7 +236,6 @@ impl GpuRenderer {
         let counters = buffer::output(&ctx, "ray counters", 16)?;
         ctx.queue.write_buffer(&counters, 0, &[0u8; 16]);
         let total = self.upload.samples;
-        let spp = self.upload.spp;
         let batch = Batch {
             ctx: &ctx,
             kernels: &kernels,
@@ -215,35 +245,52 @@ impl GpuRenderer {
         };
         let mut rec = Recorder::new(&ctx);
         let mut colors: Vec<[f32; 4]> = vec![[0.0; 4]; total as usize];
-        let mut secondary = 0u64;
-        let mut base = 0u32;
-        while base < total {
-            let n = BATCH.min(total - base);
-            let film = buffer::output(&ctx, "sample radiance", 16 * n as u64)?;
-            secondary += match options.strategy {
-                GpuStrategy::Wavefront => wavefront::render(&batch, &mut rec, base, n, &film)?,
-                GpuStrategy::Megakernel => megakernel::render(&batch, &mut rec, base, n, &film)?,
-                GpuStrategy::Hybrid => hybrid::render(&batch, &mut rec, base, n, &film)?,
-            };
-            rec.read(&film, &mut colors[base as usize..(base + n) as usize])?;
-            base += n;
-        }
-        let mut c = [0u32; 4];
-        rec.read(&counters, &mut c)?;
-        secondary += c[1] as u64;
+        let (mut secondary, mut shadow) = (0u64, 0u64);
+        let mut uploaded_bytes = uploaded_bytes;
+        // Whitted's wavefront is the cumulative one expanding every hit.
+        let branch_depth = options.branch_depth.unwrap_or(u32::MAX);
         let (w, h) = (frame.settings.width, frame.settings.height);
         let mut film = Film::new(w, h);
-        for (p, samples) in colors.chunks(spp as usize).enumerate() {
-            // Summed in sample order, as the CPU render loop does.
-            let mut sum = Color::ZERO;
-            for s in samples {
-                sum += Color::new(s[0], s[1], s[2]);
+        for pass in 0..passes {
+            if pass > 0 {
+                // Fresh choices per pass, the same sample positions (the CPU's rule).
+                uploaded_bytes += self.upload.sync_keys(pass * spp)?;
             }
-            film.add_sum(p as u32 % w.max(1), p as u32 / w.max(1), sum, spp as f32);
+            let mut base = 0u32;
+            while base < total {
+                let n = BATCH.min(total - base);
+                let film = buffer::output(&ctx, "sample radiance", 16 * n as u64)?;
+                secondary += match options.strategy {
+                    GpuStrategy::Wavefront => wavefront::render(&batch, &mut rec, base, n, &film, branch_depth)?,
+                    GpuStrategy::Megakernel => megakernel::render(&batch, &mut rec, base, n, &film)?,
+                    GpuStrategy::Hybrid => hybrid::render(&batch, &mut rec, base, n, &film)?,
+                };
+                rec.read(&film, &mut colors[base as usize..(base + n) as usize])?;
+                base += n;
+            }
+            for (p, samples) in colors.chunks(spp as usize).enumerate() {
+                // Summed in sample order, and passes one after the other, as the CPU
+                // render loop does.
+                let mut sum = Color::ZERO;
+                for s in samples {
+                    sum += Color::new(s[0], s[1], s[2]);
+                }
+                film.add_sum(p as u32 % w.max(1), p as u32 / w.max(1), sum, spp as f32);
+            }
+            // The device counts in u32: read and reset per pass so passes cannot wrap it.
+            let mut c = [0u32; 4];
+            rec.read(&counters, &mut c)?;
+            ctx.queue.write_buffer(&counters, 0, &[0u8; 16]);
+            shadow += c[0] as u64;
+            secondary += c[1] as u64;
         }
         let s = rec.seconds;
-        let stats =
-            RenderStats { primary_rays: total as u64, shadow_rays: c[0] as u64, secondary_rays: secondary, tiles: 0 };
+        let stats = RenderStats {
+            primary_rays: total as u64 * passes as u64,
+            shadow_rays: shadow,
+            secondary_rays: secondary,
+            tiles: 0,
+        };
         let timings = StageTimings {
             generate: s.generate,
             trace: s.trace,

@@ -34,14 +34,16 @@ impl Grow {
     }
 }
 
-/// Renders samples `base..base + n` into `film` (16 bytes each); returns the secondary
-/// rays traced.
+/// Renders samples `base..base + n` into `film` (16 bytes each), expanding both children
+/// at the hits of rays of level `<= branch_depth` and choosing one past it (seed 004's
+/// cumulative integrator; `u32::MAX` is Whitted's); returns the secondary rays traced.
 pub(crate) fn render(
     b: &Batch<'_>,
     rec: &mut Recorder<'_>,
     base: u32,
     n: u32,
     film: &wgpu::Buffer,
+    branch_depth: u32,
 ) -> Result<u64, GpuError> {
     let ctx = b.ctx;
     let n64 = n as u64;
@@ -100,7 +102,7 @@ pub(crate) fn render(
                     (Slot::Contrib, &contrib.buffer),
                     (Slot::Counters, b.counters),
                 ],
-                Work { n: s, ..Default::default() },
+                Work { n: s, a: branch_depth, ..Default::default() },
             );
             rec.dispatch(Stage::Shade, &k.pipeline(ctx, "wf_shade")?, b.scene, &g, s)?;
         }

@@ -32,8 +32,12 @@ pub(crate) struct RayRec {
     pub thr: [f32; 3],
     /// Scalar weight (44).
     pub weight: f32,
+    /// The cumulative integrator's path number (48) and its sample's key (52).
+    pub path: u32,
+    pub key: u32,
+    pub _pad: [u32; 2],
 }
-const _: () = assert!(std::mem::size_of::<RayRec>() == 48, "RayRec mirrors the WGSL struct");
+const _: () = assert!(std::mem::size_of::<RayRec>() == 64, "RayRec mirrors the WGSL struct");
 
 /// A hit as the kernels write it (`Hit` in shaders/bvh_traverse.wgsl): 16 bytes.
 pub(crate) const HIT_BYTES: u64 = 16;
@@ -153,6 +157,7 @@ impl Kernels {
         let mut scene_entries: Vec<_> = (0..=8).map(|b| storage_entry(b, true)).collect();
         scene_entries.push(uniform_entry(9));
         scene_entries.push(storage_entry(10, true));
+        scene_entries.push(storage_entry(11, true));
         let scene_layout = d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("frame"),
             entries: &scene_entries,

@@ -6,8 +6,9 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use super::paths::Paths;
+use crate::choice_random;
 use crate::shading::{no_nan, Child, WhittedShading};
-use crate::{RayCounts, Sampler};
+use crate::RayCounts;
 use dynray_scene::Color;
 
 /// What one pass needs besides the lists.
@@ -23,18 +24,13 @@ pub(crate) struct Bounce<'s, 'a> {
 impl Bounce<'_, '_> {
     /// Traces every path of `live`, adding `P · I(x)` (or `P ·` background on a miss)
     /// into `sums[owner]`, and appends the children that continue to `next` in path
-    /// order, reflection before refraction. Choices draw from `samplers[owner]`.
-    pub fn run(
-        &self,
-        live: &Paths,
-        next: &mut Paths,
-        sums: &mut [Color],
-        samplers: &mut [Sampler],
-        counts: &mut RayCounts,
-    ) {
+    /// order, reflection before refraction. A choice compares
+    /// [`choice_random`]`(keys[owner], level, id)` with the reflection's probability.
+    pub fn run(&self, live: &Paths, next: &mut Paths, sums: &mut [Color], keys: &[u32], counts: &mut RayCounts) {
         let sh = self.shading;
         for i in 0..live.len() {
-            let (ray, product, weight, owner) = (&live.ray[i], live.product[i], live.weight[i], live.owner[i]);
+            let (ray, product, weight, owner, id) =
+                (&live.ray[i], live.product[i], live.weight[i], live.owner[i], live.id[i]);
             let o = owner as usize;
             let Some(s) = sh.intersect(ray) else {
                 sums[o] += no_nan(product * sh.background());
@@ -48,22 +44,28 @@ impl Bounce<'_, '_> {
             }
             let scatter = sh.scatter(d, &s);
             let traced = |c: Option<Child>| c.and_then(|c| Some((c, sh.child_weight(weight, &c)?)));
-            let mut go = |c: &Child, w: f32, p: Color, counts: &mut RayCounts| {
+            let mut go = |c: &Child, w: f32, p: Color, id: u32, counts: &mut RayCounts| {
                 counts.secondary += 1;
-                next.push(sh.child_ray(&s, c.dir, eps), p, w, owner);
+                next.push(sh.child_ray(&s, c.dir, eps), p, w, owner, id);
             };
             match (traced(scatter.reflect), traced(scatter.refract)) {
                 (Some((r, wr)), Some((t, wt))) if !self.expand => {
                     let pr = reflect_probability(&r, &t);
-                    if samplers[o].next_f32() < pr {
-                        go(&r, wr, product * r.coef / pr, counts);
+                    if choice_random(keys[o], self.level, id) < pr {
+                        go(&r, wr, product * r.coef / pr, id, counts);
                     } else {
-                        go(&t, wt, product * t.coef / (1.0 - pr), counts);
+                        go(&t, wt, product * t.coef / (1.0 - pr), id, counts);
                     }
                 }
+                (r, t) if self.expand => {
+                    for (k, (c, w)) in [r, t].into_iter().flatten().enumerate() {
+                        go(&c, w, product * c.coef, id.wrapping_mul(2).wrapping_add(k as u32), counts);
+                    }
+                }
+                // Past the branch depth with at most one child: it continues, no draw.
                 (r, t) => {
                     for (c, w) in [r, t].into_iter().flatten() {
-                        go(&c, w, product * c.coef, counts);
+                        go(&c, w, product * c.coef, id, counts);
                     }
                 }
             }

@@ -54,9 +54,14 @@
 //! `I₀ + R₁I₁ + (R₁R₂)I₂`), a relative difference of a few units in the last place per
 //! term; the shadow and secondary ray counts are equal.
 //!
-//! Random numbers come from the camera sample's [`crate::Sampler`] only, drawn in the
-//! order of that sample's own paths in the lists (which does not depend on the other
-//! samples of the batch), so images do not depend on threads, tiles or batch sizes.
+//! Random numbers: each camera sample draws one `u32` from its [`crate::Sampler`], its
+//! key, and the choice at the hit of path `id` (module `paths`: camera path 1, an
+//! expanded hit's children `2·id`, `2·id + 1`, a chosen child keeps `id`) on ray level
+//! `level` compares [`crate::choice_random`]`(key, level, id)` with the
+//! reflection's probability. The number is a stateless integer hash, so it depends
+//! neither on the order of the lists nor on the other samples of the batch (images do
+//! not depend on threads, tiles or batch sizes), and the GPU's wavefront kernel
+//! (crates/gpu, docs/gpu.md) computes the same bits and chooses the same children.
 
 mod bounce;
 mod paths;

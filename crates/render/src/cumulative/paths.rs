@@ -4,7 +4,8 @@
 use dynray_geom::Ray;
 use dynray_scene::Color;
 
-/// A list of live paths: `ray[i]`, `product[i]`, `weight[i]` and `owner[i]` are path `i`.
+/// A list of live paths: `ray[i]`, `product[i]`, `weight[i]`, `owner[i]` and `id[i]` are
+/// path `i`.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Paths {
     /// The ray the path traces next: origin and direction (and its interval, which only
@@ -18,6 +19,12 @@ pub(crate) struct Paths {
     pub weight: Vec<f32>,
     /// Index of the camera sample in the batch whose sum `S` the path adds to.
     pub owner: Vec<u32>,
+    /// The path's number within its sample's tree, which keys its choices
+    /// ([`crate::choice_random`]): camera path 1; an expanded hit's `i`-th
+    /// traced child `2 · id + i`; a chosen or only child keeps `id`. Unique per level
+    /// up to 31 expanded levels (it wraps beyond: siblings then share numbers, which
+    /// correlates them but biases nothing).
+    pub id: Vec<u32>,
 }
 
 impl Paths {
@@ -28,6 +35,7 @@ impl Paths {
             product: Vec::with_capacity(n),
             weight: Vec::with_capacity(n),
             owner: Vec::with_capacity(n),
+            id: Vec::with_capacity(n),
         }
     }
 
@@ -36,7 +44,7 @@ impl Paths {
         self.clear();
         assert!(rays.len() <= u32::MAX as usize, "{} camera rays in one batch; owners are u32", rays.len());
         for (i, r) in rays.iter().enumerate() {
-            self.push(*r, Color::ONE, 1.0, i as u32);
+            self.push(*r, Color::ONE, 1.0, i as u32, 1);
         }
     }
 
@@ -56,13 +64,15 @@ impl Paths {
         self.product.clear();
         self.weight.clear();
         self.owner.clear();
+        self.id.clear();
     }
 
     /// Appends a path.
-    pub fn push(&mut self, ray: Ray, product: Color, weight: f32, owner: u32) {
+    pub fn push(&mut self, ray: Ray, product: Color, weight: f32, owner: u32, id: u32) {
         self.ray.push(ray);
         self.product.push(product);
         self.weight.push(weight);
         self.owner.push(owner);
+        self.id.push(id);
     }
 }

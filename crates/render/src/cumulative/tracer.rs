@@ -52,13 +52,15 @@ impl<'a> Cumulative<'a> {
         counts: &mut RayCounts,
     ) {
         sums.fill(Color::ZERO);
+        // One draw per sample keys all its choices (the GPU uploads the same numbers).
+        let keys: Vec<u32> = samplers.iter_mut().map(Sampler::next_u32).collect();
         let (live, next) = lists;
         live.camera(rays);
         let mut level = 1;
         while !live.is_empty() {
             next.clear();
             let pass = Bounce { shading: &self.shading, level, expand: level <= self.branch_depth };
-            pass.run(live, next, sums, samplers, counts);
+            pass.run(live, next, sums, &keys, counts);
             std::mem::swap(live, next);
             level += 1;
         }
