@@ -59,6 +59,8 @@ pub(crate) struct Object {
     pub anim: Option<ObjAnim>,
     /// `motion static|dynamic` as written, with where.
     pub motion: Option<(Motion, FileId, Span)>,
+    /// The `elastic { … }` block (a simulated body, docs/physics.md), with where.
+    pub elastic: Option<(crate::ElasticParams, FileId, Span)>,
 }
 
 /// An object's animation: the keys, and the transforms written after `animate` (they
@@ -80,6 +82,7 @@ impl Object {
             shading: Shading::Auto,
             anim: None,
             motion: None,
+            elastic: None,
         }
     }
 
@@ -306,6 +309,7 @@ impl Parser<'_> {
                     shading: shading.unwrap_or(Shading::Auto),
                     anim: None,
                     motion: None,
+                    elastic: None,
                 }
             }
             None => {
@@ -572,6 +576,9 @@ impl Parser<'_> {
     {
         let mut allowed: Vec<&str> = own.to_vec();
         allowed.extend(MODIFIERS);
+        // Only a primitive can be a simulated body: its phyxels are sampled from its own
+        // closed mesh (docs/physics.md).
+        allowed.push("elastic");
         let mut mods = Mods::default();
         let block = self.block(what, &allowed, &["transform"], |p, key, span| match key {
             "animate" => {
@@ -581,6 +588,11 @@ impl Parser<'_> {
             "motion" => {
                 let (m, s) = p.motion()?;
                 mods.0.push(Mod::Motion(m, p.file, s));
+                Ok(())
+            }
+            "elastic" => {
+                let e = p.elastic()?;
+                mods.0.push(Mod::Elastic(e, p.file, span.start..p.prev_end()));
                 Ok(())
             }
             "material" => {
@@ -617,6 +629,7 @@ enum Mod {
     /// Within one block `animate` and `motion` cannot repeat ([`Parser::block`] checks).
     Animate(Rc<AnimSpec>),
     Motion(Motion, FileId, Span),
+    Elastic(crate::ElasticParams, FileId, Span),
 }
 
 /// Modifiers in written order.
@@ -631,6 +644,7 @@ impl Mods {
                 Mod::Transform(t) => obj.transform(t),
                 Mod::Animate(a) => obj.anim = Some(ObjAnim { spec: a, after: DMat4::IDENTITY }),
                 Mod::Motion(m, f, s) => obj.motion = Some((m, f, s)),
+                Mod::Elastic(e, f, s) => obj.elastic = Some((e, f, s)),
             }
         }
     }
