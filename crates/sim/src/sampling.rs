@@ -49,7 +49,7 @@ impl InsideTest {
         Ok(Self { bvh, eps })
     }
 
-    /// Whether `p` is inside (majority of [`DIRECTIONS`] cross an odd number of times).
+    /// Whether `p` is inside (most of five fixed skew rays cross an odd number of times).
     pub fn contains(&self, p: DVec3) -> bool {
         let o = p.as_vec3();
         let odd = DIRECTIONS.iter().filter(|d| self.crossings(o, Vec3::from_array(**d)) % 2 == 1).count();

@@ -71,6 +71,10 @@ pub(crate) struct ObjAnim {
     pub after: DMat4,
 }
 
+/// Midpoint subdivisions of a box with an `elastic` block: 4 gives 16 × 16 quads a face
+/// (3,072 triangles), enough for its bending to show.
+pub const ELASTIC_BOX_LEVELS: u32 = 4;
+
 /// Largest crease angle `shading smooth` accepts, in degrees (180 smooths every edge).
 pub const MAX_CREASE_DEG: f64 = 180.0;
 
@@ -547,6 +551,14 @@ impl Parser<'_> {
         let s = self.required(s, "scale", "box", &block)?;
         let mut obj = Object::single(Shape::Mesh(Rc::new(cuboid(c, s, o))));
         mods.apply(&mut obj);
+        if obj.elastic.is_some() {
+            // A box of 12 triangles could only shear as a whole: subdivided, it bends.
+            for part in &mut obj.parts {
+                if let Shape::Mesh(m) = &part.shape {
+                    part.shape = Shape::Mesh(Rc::new(crate::shapes::subdivide(m, ELASTIC_BOX_LEVELS)));
+                }
+            }
+        }
         Ok(obj)
     }
 
