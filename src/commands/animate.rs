@@ -70,6 +70,9 @@ pub fn run(a: AnimateArgs) -> Result<()> {
     bar.set_style(ProgressStyle::with_template("{bar:40} frame {pos}/{len} {elapsed} (eta {eta}) {msg}").unwrap());
     // Built before the loop (sampling and neighbourhoods once); each frame steps it on.
     let mut world = super::physics::world(&scene, &label)?;
+    if let Some(w) = &world {
+        eprintln!("{label}: physics: {}", w.describe());
+    }
     let mut frame = Frame::default();
     let started = Instant::now();
     let mut rays_total = 0u64;

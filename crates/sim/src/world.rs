@@ -29,6 +29,10 @@ impl World {
     /// colliding with the floor and with the static actors' triangles. Frames come at
     /// the scene's frame rate.
     pub fn from_scene(scene: &Scene) -> Result<Option<Self>, SimError> {
+        // Most scenes have no bodies: return before copying any geometry.
+        if scene.actors.iter().all(|a| a.elastic.is_none()) {
+            return Ok(None);
+        }
         let settings = scene.physics.unwrap_or_default();
         let mut bodies = Vec::new();
         let mut smooth = Vec::new();
@@ -102,6 +106,18 @@ impl World {
     /// The simulated time, s.
     pub fn time(&self) -> f64 {
         self.steps as f64 * self.dt
+    }
+
+    /// One line for logs: bodies, phyxels, neighbour pairs, the step.
+    pub fn describe(&self) -> String {
+        let phyxels: usize = self.bodies.iter().map(Body::len).sum();
+        let pairs: usize = self.bodies.iter().map(Body::pair_count).sum();
+        format!(
+            "elastic bodies {}, phyxels {phyxels}, pairs {pairs}, {} steps/frame of {:.3} ms",
+            self.bodies.len(),
+            self.steps_per_frame,
+            self.dt * 1e3
+        )
     }
 
     /// Back to time 0.
