@@ -239,3 +239,19 @@ fn results_do_not_depend_on_the_thread_count() {
     assert_eq!(a, b, "phyxel state differs between 1 and 4 threads");
     assert_eq!(sa, sb, "surface differs between 1 and 4 threads");
 }
+
+#[test]
+fn meshes_without_volume_and_foreign_frames_are_errors() {
+    use dynray_sim::SimError;
+    let open = TriangleMesh::new(vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], vec![[0, 1, 2]]);
+    assert!(matches!(Body::new(3, &open, &ElasticParams::default()), Err(SimError::NoVolume { actor: 3, .. })));
+    // Inside out: the signed volume is negative.
+    let mut inverted = cube(Vec3::ZERO, 1.0);
+    inverted.indices.iter_mut().for_each(|t| t.swap(1, 2));
+    let e = Body::new(0, &inverted, &ElasticParams::default()).unwrap_err();
+    assert!(e.to_string().contains("encloses no volume"), "{e}");
+    // A frame of another scene (no vertex range for the body's actor) is refused.
+    let w = world(&cube(Vec3::ZERO, 1.0), ElasticParams { phyxels: 64, ..Default::default() }, no_gravity(), None);
+    let mut frame = dynray_scene::Frame::default();
+    assert!(matches!(w.write_into(&mut frame), Err(SimError::FrameMismatch { actor: 0, .. })));
+}
