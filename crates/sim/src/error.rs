@@ -43,6 +43,15 @@ pub enum SimError {
         /// Vertices the body has.
         vertices: usize,
     },
+    /// The stability bound needs more steps per frame than are allowed: the material is
+    /// too stiff (or the phyxels too fine) for an explicit step at this frame rate.
+    #[error("the stability bound needs {needed} steps per frame (at most {max} are taken): lower `young` or `phyxels`, or raise `frame_rate`")]
+    TooStiff {
+        /// Steps per frame the bound asks for.
+        needed: u64,
+        /// The cap, [`crate::integrator::MAX_STEPS_PER_FRAME`].
+        max: u32,
+    },
     /// The state stopped being finite: the step was unstable.
     #[error("actor {actor}: the simulation diverged at step {step} (a non-finite position)")]
     Diverged {

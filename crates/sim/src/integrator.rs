@@ -13,6 +13,7 @@
 //! larger of the scene's `substeps` and the count these bounds need.
 
 use crate::body::Body;
+use crate::SimError;
 
 /// Safety factor `C` of the bound `dt ≤ C s / c`. Measured on a cube of 343 phyxels
 /// (E = 5e4, ν = 0.3, ρ = 1000, no damping, dropped at 5 m/s onto the floor, 1,000
@@ -31,10 +32,18 @@ pub fn stable_dt(body: &Body) -> f64 {
     }
 }
 
+/// Most steps one frame may take: past it a frame would take minutes, so the world
+/// refuses the material instead of appearing to hang.
+pub const MAX_STEPS_PER_FRAME: u32 = 100_000;
+
 /// Steps per frame of `frame_dt` seconds: at least `min`, and enough for every body's
-/// stable step.
-pub fn steps_per_frame(frame_dt: f64, min: u32, bodies: &[Body]) -> u32 {
+/// stable step; an error past [`MAX_STEPS_PER_FRAME`].
+pub fn steps_per_frame(frame_dt: f64, min: u32, bodies: &[Body]) -> Result<u32, SimError> {
     let dt = bodies.iter().map(stable_dt).fold(f64::INFINITY, f64::min);
-    let need = if dt.is_finite() { (frame_dt / dt).ceil().clamp(1.0, u32::MAX as f64) as u32 } else { 1 };
-    need.max(min).max(1)
+    let need = if dt > 0.0 { (frame_dt / dt).ceil() } else { f64::INFINITY };
+    if need.is_nan() || need > MAX_STEPS_PER_FRAME as f64 {
+        let needed = if need.is_finite() { need as u64 } else { u64::MAX };
+        return Err(SimError::TooStiff { needed, max: MAX_STEPS_PER_FRAME });
+    }
+    Ok((need as u32).max(min).max(1))
 }

@@ -70,7 +70,7 @@ impl World {
         frame_rate: f64,
     ) -> Result<Self, SimError> {
         let contact = Contact::new(settings.ground.map(f64::from), statics)?;
-        let n = steps_per_frame(1.0 / frame_rate, settings.substeps, &bodies);
+        let n = steps_per_frame(1.0 / frame_rate, settings.substeps, &bodies)?;
         let smooth = vec![true; bodies.len()];
         Ok(Self {
             bodies,

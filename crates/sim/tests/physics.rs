@@ -250,6 +250,10 @@ fn meshes_without_volume_and_foreign_frames_are_errors() {
     inverted.indices.iter_mut().for_each(|t| t.swap(1, 2));
     let e = Body::new(0, &inverted, &ElasticParams::default()).unwrap_err();
     assert!(e.to_string().contains("encloses no volume"), "{e}");
+    // A material too stiff for an explicit step at 24 fps is refused, not run for hours.
+    let stiff = Body::new(0, &cube(Vec3::ZERO, 1.0), &ElasticParams { young: 1e15, phyxels: 64, ..Default::default() });
+    let e = World::new(&no_gravity(), vec![stiff.unwrap()], None, RATE).err().unwrap();
+    assert!(matches!(e, SimError::TooStiff { .. }), "{e}");
     // A frame of another scene (no vertex range for the body's actor) is refused.
     let w = world(&cube(Vec3::ZERO, 1.0), ElasticParams { phyxels: 64, ..Default::default() }, no_gravity(), None);
     let mut frame = dynray_scene::Frame::default();
