@@ -68,6 +68,11 @@ pub fn run(a: AnimateArgs) -> Result<()> {
 
     let bar = ProgressBar::new(todo.len() as u64);
     bar.set_style(ProgressStyle::with_template("{bar:40} frame {pos}/{len} {elapsed} (eta {eta}) {msg}").unwrap());
+    // Built before the loop (sampling and neighbourhoods once); each frame steps it on.
+    let mut world = super::physics::world(&scene, &label)?;
+    if let Some(w) = &world {
+        eprintln!("{label}: physics: {}", w.describe());
+    }
     let mut frame = Frame::default();
     let started = Instant::now();
     let mut rays_total = 0u64;
@@ -75,6 +80,8 @@ pub fn run(a: AnimateArgs) -> Result<()> {
         let t = timeline.time_of(k);
         let t0 = Instant::now();
         scene.frame_into(t, &mut frame);
+        // Simulated bodies replace their actors' vertices (pose_ms includes the steps).
+        super::physics::simulate(world.as_mut(), t, &mut frame, &label)?;
         if let Some(w) = a.width {
             frame.settings.width = w;
         }

@@ -5,6 +5,7 @@ mod animate_tracer;
 mod bench;
 mod gpu_info;
 mod info;
+mod physics;
 mod preview;
 mod render;
 mod time;

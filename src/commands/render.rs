@@ -36,6 +36,8 @@ pub fn run(a: RenderArgs) -> Result<()> {
     super::apply_shading(&mut scene, Path::new(&label))?;
     let time = super::time::apply(&mut scene, &label, &a.when)?;
     let mut frame = scene.frame(time);
+    let mut world = super::physics::world(&scene, &label)?;
+    super::physics::simulate(world.as_mut(), time, &mut frame, &label)?;
     let s = &mut frame.settings;
     if let Some(w) = a.width {
         s.width = w;

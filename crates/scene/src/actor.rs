@@ -47,6 +47,9 @@ pub struct Actor {
     pub node: Option<u32>,
     /// What moves the actor's vertices, if anything (`animation/deform.rs`).
     pub deform: Option<Deformation>,
+    /// The actor's `elastic { … }` block: a simulated body (`dynray-sim`) whose vertices
+    /// the simulation writes into each frame; such an actor is [`Motion::Dynamic`].
+    pub elastic: Option<crate::ElasticParams>,
 }
 
 impl Actor {
@@ -65,6 +68,7 @@ impl Actor {
             normal_source,
             node: None,
             deform: None,
+            elastic: None,
         }
     }
 

@@ -38,6 +38,11 @@ pub struct Frame {
     /// actor order, contiguous, and cover every triangle, so a hit's triangle index
     /// finds its actor by binary search ([`Frame::actor_of`]).
     pub actor_ranges: Vec<Range<u32>>,
+    /// `vertex_ranges[a]` is the range of vertex indices (into `mesh.positions` and its
+    /// normals and uvs) that actor `a` became, in actor order and contiguous like
+    /// `actor_ranges`: where a simulation (`dynray-sim`) writes an actor's deformed
+    /// vertices.
+    pub vertex_ranges: Vec<Range<u32>>,
     /// The time this frame was filled for, in seconds.
     pub time: f32,
 }
@@ -62,6 +67,7 @@ impl Default for Frame {
             settings: Settings::default(),
             environment: Environment::default(),
             actor_ranges: Vec::new(),
+            vertex_ranges: Vec::new(),
             time: 0.0,
         }
     }
@@ -97,11 +103,12 @@ impl Scene {
     /// frame once dropped every actor's uvs then, and with them a textured mesh's
     /// texture); loaders give such actors untextured materials, so nothing samples them.
     pub fn frame_into(&self, t: f32, frame: &mut Frame) {
-        let Frame { mesh, materials_of, actor_ranges, .. } = frame;
+        let Frame { mesh, materials_of, actor_ranges, vertex_ranges, .. } = frame;
         mesh.positions.clear();
         mesh.indices.clear();
         materials_of.clear();
         actor_ranges.clear();
+        vertex_ranges.clear();
         let any_normals = self.actors.iter().any(|a| a.mesh.normals.is_some());
         let any_uvs = self.actors.iter().any(|a| a.mesh.uvs.is_some());
         let mut normals = mesh.normals.take().unwrap_or_default();
@@ -179,6 +186,7 @@ impl Scene {
                 }
             }
             actor_ranges.push(first..mesh.indices.len() as u32);
+            vertex_ranges.push(base..mesh.positions.len() as u32);
         }
         mesh.normals = any_normals.then_some(normals);
         mesh.uvs = any_uvs.then_some(uvs);

@@ -301,6 +301,9 @@ pub struct Scene {
     pub environment: Environment,
     /// Nodes, clips, skins and the timeline (`animation/`); empty for a still scene.
     pub animation: crate::Animation,
+    /// The `physics { … }` block, if the file has one; actors with
+    /// [`crate::Actor::elastic`] use the defaults without it (docs/physics.md).
+    pub physics: Option<crate::PhysicsSettings>,
 }
 
 impl Scene {

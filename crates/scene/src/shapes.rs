@@ -156,6 +156,46 @@ pub fn icosphere(center: Vec3, radius: f32, levels: u32) -> TriangleMesh {
     }
 }
 
+/// `mesh` with every triangle split into four at its edge midpoints, `levels` times
+/// (4^levels times the triangles). Vertices on a shared edge are shared; normals and uvs,
+/// where present, are interpolated (normals renormalised). A simulated box
+/// (`docs/physics.md`) is subdivided so that its bending shows.
+pub fn subdivide(mesh: &TriangleMesh, levels: u32) -> TriangleMesh {
+    let mut m = mesh.clone();
+    for _ in 0..levels {
+        let mut mid: std::collections::HashMap<(u32, u32), u32> = std::collections::HashMap::new();
+        let mut indices = Vec::with_capacity(m.indices.len() * 4);
+        let old = std::mem::take(&mut m.indices);
+        for t in &old {
+            let mut e = [0u32; 3];
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                let key = (a.min(b), a.max(b));
+                e[k] = *mid.entry(key).or_insert_with(|| {
+                    let avg =
+                        |x: [f32; 3], y: [f32; 3]| [0.5 * (x[0] + y[0]), 0.5 * (x[1] + y[1]), 0.5 * (x[2] + y[2])];
+                    let (a, b) = (a as usize, b as usize);
+                    m.positions.push(avg(m.positions[a], m.positions[b]));
+                    if let Some(n) = &mut m.normals {
+                        let v = Vec3::from_array(avg(n[a], n[b])).normalize_or_zero();
+                        n.push(v.to_array());
+                    }
+                    if let Some(uv) = &mut m.uvs {
+                        uv.push([0.5 * (uv[a][0] + uv[b][0]), 0.5 * (uv[a][1] + uv[b][1])]);
+                    }
+                    m.positions.len() as u32 - 1
+                });
+            }
+            indices.push([t[0], e[0], e[2]]);
+            indices.push([e[0], t[1], e[1]]);
+            indices.push([e[2], e[1], t[2]]);
+            indices.push([e[0], e[1], e[2]]);
+        }
+        m.indices = indices;
+    }
+    m
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -184,6 +224,20 @@ mod tests {
             let t = m.triangle(i);
             assert!(t.normal().dot(t.centroid() - Vec3::new(1.0, 2.0, 3.0)) > 0.0, "triangle {i} faces inwards");
         }
+    }
+
+    #[test]
+    fn subdividing_a_box_keeps_its_shape() {
+        let b = cuboid(Vec3::ZERO, Vec3::new(1.0, 2.0, 3.0), Vec3::ZERO);
+        let s = subdivide(&b, 2);
+        assert_eq!(s.triangle_count(), 12 * 16);
+        // Each face of 4 corners gains 21 vertices (a 5×5 grid).
+        assert_eq!(s.vertex_count(), 6 * 25);
+        assert_eq!(s.bounds(), b.bounds());
+        s.validate().unwrap();
+        let area =
+            |m: &TriangleMesh| -> f32 { m.triangles().map(|t| 0.5 * (t.p1 - t.p0).cross(t.p2 - t.p0).length()).sum() };
+        assert!((area(&s) - area(&b)).abs() < 1e-4);
     }
 
     #[test]

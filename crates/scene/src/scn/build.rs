@@ -47,6 +47,7 @@ pub(crate) fn build(mut st: State, warnings: &mut Vec<Warning>) -> Result<Scene,
         environment: st.environment.as_ref().map(|e| e.0).unwrap_or_default(),
         camera: st.camera.as_ref().map(|c| c.0),
         lights: st.lights.clone(),
+        physics: st.physics.as_ref().map(|p| p.0),
         ..Default::default()
     };
     let axis = Axis { frames: st.frames.unwrap_or(1), frame_rate: st.frame_rate.unwrap_or(24.0) as f64 };
@@ -128,12 +129,28 @@ pub(crate) fn build(mut st: State, warnings: &mut Vec<Warning>) -> Result<Scene,
             (Some((m, _, _)), _) => explicit.push((scene.actors.len(), m)),
             (None, _) => {}
         }
+        if let Some((_, f, s)) = &entry.object.elastic {
+            if let Some(anim) = &entry.object.anim {
+                return Err(Diag::new(*f, s.clone(), "an `elastic` body cannot also be keyframe-animated")
+                    .label("the simulation moves this object")
+                    .also(anim.spec.file, anim.spec.span.clone(), "animated here")
+                    .note("remove the `animate` block or the `elastic` one"));
+            }
+            if let Some((Motion::Static, mf, ms)) = &entry.object.motion {
+                return Err(Diag::new(*mf, ms.clone(), "`motion static` on an `elastic` body")
+                    .label("the simulation moves this object")
+                    .also(*f, s.clone(), "`elastic` given here")
+                    .note("a simulated body is dynamic; remove `motion static`"));
+            }
+            explicit.push((scene.actors.len(), Motion::Dynamic));
+        }
         let actor = Actor {
             materials,
             transform,
             motion: Motion::Static,
             node,
             deform: None,
+            elastic: entry.object.elastic.as_ref().map(|e| e.0),
             shading: entry.object.shading,
             ..Actor::new(entry.name, mesh, 0)
         };

@@ -17,6 +17,7 @@ mod lexer;
 mod mesh_file;
 mod objects;
 mod parser;
+mod physics;
 mod textures;
 mod transform;
 mod value;
@@ -25,6 +26,7 @@ pub use animate::MAX_FRAMES;
 pub use blocks::{DEFAULT_ANGLE_DEG, MAX_FALLOFF, MAX_IMAGE_SIDE, MAX_RECURSION};
 pub use build::{auto_sphere_detail, MAX_SPHERE_DETAIL, MIN_SPHERE_DETAIL, SILHOUETTE_TOLERANCE_PX};
 pub use objects::MAX_CREASE_DEG;
+pub use physics::{MAX_PHYXELS, MAX_SUBSTEPS, MIN_PHYXELS};
 pub use transform::{rotate_about, scale_about};
 pub use value::{BinOp, Value};
 

@@ -59,6 +59,8 @@ pub(crate) struct Object {
     pub anim: Option<ObjAnim>,
     /// `motion static|dynamic` as written, with where.
     pub motion: Option<(Motion, FileId, Span)>,
+    /// The `elastic { … }` block (a simulated body, docs/physics.md), with where.
+    pub elastic: Option<(crate::ElasticParams, FileId, Span)>,
 }
 
 /// An object's animation: the keys, and the transforms written after `animate` (they
@@ -68,6 +70,10 @@ pub(crate) struct ObjAnim {
     pub spec: Rc<AnimSpec>,
     pub after: DMat4,
 }
+
+/// Midpoint subdivisions of a box with an `elastic` block: 4 gives 16 × 16 quads a face
+/// (3,072 triangles), enough for its bending to show.
+pub const ELASTIC_BOX_LEVELS: u32 = 4;
 
 /// Largest crease angle `shading smooth` accepts, in degrees (180 smooths every edge).
 pub const MAX_CREASE_DEG: f64 = 180.0;
@@ -80,6 +86,7 @@ impl Object {
             shading: Shading::Auto,
             anim: None,
             motion: None,
+            elastic: None,
         }
     }
 
@@ -306,6 +313,7 @@ impl Parser<'_> {
                     shading: shading.unwrap_or(Shading::Auto),
                     anim: None,
                     motion: None,
+                    elastic: None,
                 }
             }
             None => {
@@ -543,6 +551,14 @@ impl Parser<'_> {
         let s = self.required(s, "scale", "box", &block)?;
         let mut obj = Object::single(Shape::Mesh(Rc::new(cuboid(c, s, o))));
         mods.apply(&mut obj);
+        if obj.elastic.is_some() {
+            // A box of 12 triangles could only shear as a whole: subdivided, it bends.
+            for part in &mut obj.parts {
+                if let Shape::Mesh(m) = &part.shape {
+                    part.shape = Shape::Mesh(Rc::new(crate::shapes::subdivide(m, ELASTIC_BOX_LEVELS)));
+                }
+            }
+        }
         Ok(obj)
     }
 
@@ -572,6 +588,9 @@ impl Parser<'_> {
     {
         let mut allowed: Vec<&str> = own.to_vec();
         allowed.extend(MODIFIERS);
+        // Only a primitive can be a simulated body: its phyxels are sampled from its own
+        // closed mesh (docs/physics.md).
+        allowed.push("elastic");
         let mut mods = Mods::default();
         let block = self.block(what, &allowed, &["transform"], |p, key, span| match key {
             "animate" => {
@@ -581,6 +600,11 @@ impl Parser<'_> {
             "motion" => {
                 let (m, s) = p.motion()?;
                 mods.0.push(Mod::Motion(m, p.file, s));
+                Ok(())
+            }
+            "elastic" => {
+                let e = p.elastic()?;
+                mods.0.push(Mod::Elastic(e, p.file, span.start..p.prev_end()));
                 Ok(())
             }
             "material" => {
@@ -617,6 +641,7 @@ enum Mod {
     /// Within one block `animate` and `motion` cannot repeat ([`Parser::block`] checks).
     Animate(Rc<AnimSpec>),
     Motion(Motion, FileId, Span),
+    Elastic(crate::ElasticParams, FileId, Span),
 }
 
 /// Modifiers in written order.
@@ -631,6 +656,7 @@ impl Mods {
                 Mod::Transform(t) => obj.transform(t),
                 Mod::Animate(a) => obj.anim = Some(ObjAnim { spec: a, after: DMat4::IDENTITY }),
                 Mod::Motion(m, f, s) => obj.motion = Some((m, f, s)),
+                Mod::Elastic(e, f, s) => obj.elastic = Some((e, f, s)),
             }
         }
     }

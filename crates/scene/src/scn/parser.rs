@@ -33,6 +33,7 @@ pub(crate) const KEYWORDS: &[&str] = &[
     "camera",
     "environment",
     "settings",
+    "physics",
     "material",
     "transform",
     "define",
@@ -104,6 +105,8 @@ pub(crate) struct State {
     pub camera: Option<(Camera, FileId, Span)>,
     pub environment: Option<(Environment, FileId, Span)>,
     pub settings: Option<(Settings, FileId, Span)>,
+    /// The `physics { … }` block and where it was given (once per scene).
+    pub physics: Option<(crate::PhysicsSettings, FileId, Span)>,
     /// `settings { sphere_detail n }`: longitude segments of tessellated spheres.
     pub sphere_detail: Option<u32>,
     /// `settings { frames n }` (docs §9; default 1).
@@ -338,6 +341,13 @@ impl<'s> Parser<'s> {
                 self.once("settings", span.clone(), |st| &mut st.settings)?;
                 self.st.settings = Some((s, self.file, span));
             }
+            "physics" => {
+                self.bump();
+                let s = self.physics()?;
+                let span = start.start..self.prev_end();
+                self.once("physics", span.clone(), |st| &mut st.physics)?;
+                self.st.physics = Some((s, self.file, span));
+            }
             "define" => self.define()?,
             "include" => self.include()?,
             "material" | "transform" => {
@@ -354,8 +364,9 @@ impl<'s> Parser<'s> {
     }
 
     fn statement_expected(&self) -> Diag {
-        let d = self
-            .expected("a statement (mesh, box, sphere, object, light, camera, environment, settings, define, include)");
+        let d = self.expected(
+            "a statement (mesh, box, sphere, object, light, camera, environment, settings, physics, define, include)",
+        );
         match self.peek() {
             Tok::Name(n) => match did_you_mean(n, KEYWORDS.iter().copied()) {
                 Some(s) => d.note(format!("did you mean `{s}`?")),
