@@ -144,7 +144,7 @@ pub fn info(out: &mut impl Write, file: &Path) -> Result<()> {
     writeln!(out, "leaves      per level {}", per_level(&i.leaves_per_level))?;
     writeln!(
         out,
-        "field       epsilon {:.3e}, Lipschitz bound {:.3}, {} samples set by the T-junction rule",
+        "field       epsilon {:.3e}, Lipschitz bound {:.3} (global), {} samples set by the T-junction rule",
         adf.epsilon(),
         adf.lipschitz(),
         thousands(i.constrained_samples as usize)
@@ -168,6 +168,12 @@ pub fn info(out: &mut impl Write, file: &Path) -> Result<()> {
         100.0 * n as f64 / (h.table_edge() as f64).powi(3)
     )?;
     writeln!(out, "offsets     Φ {}^3 entries of 8 bytes, {}", h.offset_edge(), kib(m.offset_table_bytes))?;
+    writeln!(
+        out,
+        "step bounds {} floats, {} (per-cell Lipschitz bounds of the sphere tracer; not in the seed)",
+        thousands(n as usize),
+        kib(m.step_bound_bytes)
+    )?;
     writeln!(out, "memory      {} in all", kib(m.total_bytes()))?;
     writeln!(
         out,

@@ -111,12 +111,14 @@ fn constrain_block(block: &mut [f32; 27], c: &Cell, done: &[[f32; 27]], map: &Ce
     changed
 }
 
-/// The Lipschitz bound of the reconstructed field: the largest gradient norm of any
-/// leaf's trilinear interpolant (per axis, the largest of its 4 edge differences over
-/// the edge length). With the field continuous (T-junction rule) it bounds the field
-/// along any segment, so a sphere tracer may step `|d| / L`.
-pub(crate) fn lipschitz(tree: &Tree, map: &CellMap, cube_size: f32) -> f32 {
-    tree.cells
+/// Lipschitz bounds of the reconstructed field, one per internal cell: the largest
+/// gradient norm of any leaf's trilinear interpolant inside the cell (per axis, the
+/// largest of the leaf's 4 edge differences over the edge length). With the field
+/// continuous (T-junction rule) a cell's bound holds along any segment inside it, so a
+/// sphere tracer may step `|d| / L` within it; the root's is the global bound.
+pub(crate) fn lipschitz(tree: &Tree, map: &CellMap, cube_size: f32) -> Vec<f32> {
+    let mut bound: Vec<f32> = tree
+        .cells
         .par_iter()
         .zip(&tree.blocks)
         .map(|(c, b)| {
@@ -128,24 +130,37 @@ pub(crate) fn lipschitz(tree: &Tree, map: &CellMap, cube_size: f32) -> f32 {
                 if internal(map, c.level + 1, child) {
                     continue;
                 }
-                let at = |x: u32, y: u32, z: u32| b[block_at(o[0] + x, o[1] + y, o[2] + z)];
-                let mut g2 = 0.0f32;
-                for axis in 0..3 {
-                    let mut m = 0.0f32;
-                    for j in 0..4u32 {
-                        let (u, w) = (j & 1, j >> 1);
-                        let (lo, hi) = match axis {
-                            0 => (at(0, u, w), at(1, u, w)),
-                            1 => (at(u, 0, w), at(u, 1, w)),
-                            _ => (at(u, w, 0), at(u, w, 1)),
-                        };
-                        m = m.max((hi - lo).abs());
-                    }
-                    g2 += (m / h) * (m / h);
-                }
-                worst = worst.max(g2.sqrt());
+                worst = worst.max(leaf_gradient_bound(&|x, y, z| b[block_at(o[0] + x, o[1] + y, o[2] + z)], h));
             }
             worst
         })
-        .reduce(|| 0.0, f32::max)
+        .collect();
+    // Children come after their parents (breadth-first): fold each into its parent, deepest first.
+    for i in (1..tree.cells.len()).rev() {
+        let c = tree.cells[i];
+        if let Some(&p) = map.get(&Cell::map_key(c.level - 1, c.index.map(|x| x >> 1))) {
+            bound[p as usize] = bound[p as usize].max(bound[i]);
+        }
+    }
+    bound
+}
+
+/// The gradient bound of one leaf's trilinear interpolant of `at(x, y, z)` over edge `h`.
+#[inline]
+pub(crate) fn leaf_gradient_bound(at: &impl Fn(u32, u32, u32) -> f32, h: f32) -> f32 {
+    let mut g2 = 0.0f32;
+    for axis in 0..3 {
+        let mut m = 0.0f32;
+        for j in 0..4u32 {
+            let (u, w) = (j & 1, j >> 1);
+            let (lo, hi) = match axis {
+                0 => (at(0, u, w), at(1, u, w)),
+                1 => (at(u, 0, w), at(u, 1, w)),
+                _ => (at(u, w, 0), at(u, w, 1)),
+            };
+            m = m.max((hi - lo).abs());
+        }
+        g2 += (m / h) * (m / h);
+    }
+    g2.sqrt()
 }

@@ -132,6 +132,7 @@ impl Adf {
         out.extend_from_slice(bytemuck::cast_slice(&self.voxels.texels));
         out.extend_from_slice(bytemuck::cast_slice(&self.hash.table));
         out.extend_from_slice(bytemuck::cast_slice(&self.hash.phi));
+        out.extend_from_slice(bytemuck::cast_slice(&self.cell_lipschitz));
         let sum = fnv1a(&out);
         out.extend_from_slice(&sum.to_le_bytes());
         out
@@ -188,7 +189,7 @@ impl Adf {
         // the length check before anything is allocated.
         let slots: u64 = h.block_dims.iter().map(|&d| d as u64).product();
         let (voxels, table, phi) = (27 * slots, (h.hash_m as u64).pow(3), (h.hash_r as u64).pow(3));
-        let expected = hsize as u64 + 4 * voxels + 8 * table + 8 * phi + 8;
+        let expected = hsize as u64 + 4 * voxels + 8 * table + 8 * phi + 4 * h.internal_cells as u64 + 8;
         if bytes.len() as u64 != expected {
             return Err(length(expected));
         }
@@ -215,9 +216,14 @@ impl Adf {
         }
         let (v0, t0) = (hsize, hsize + 4 * voxels as usize);
         let p0 = t0 + 8 * table as usize;
+        let l0 = p0 + 8 * phi as usize;
         let texels: Vec<f32> = bytemuck::pod_collect_to_vec(&bytes[v0..t0]);
         let table: Vec<CellEntry> = bytemuck::pod_collect_to_vec(&bytes[t0..p0]);
-        let phi: Vec<PhiEntry> = bytemuck::pod_collect_to_vec(&bytes[p0..body]);
+        let phi: Vec<PhiEntry> = bytemuck::pod_collect_to_vec(&bytes[p0..l0]);
+        let cell_lipschitz: Vec<f32> = bytemuck::pod_collect_to_vec(&bytes[l0..body]);
+        if cell_lipschitz.iter().any(|x| !(x.is_finite() && *x >= 0.0)) {
+            return Err(corrupt("negative or non-finite Lipschitz bound of a cell".into()));
+        }
         if texels.iter().any(|x| !x.is_finite()) {
             return Err(corrupt("non-finite voxel".into()));
         }
@@ -276,6 +282,7 @@ impl Adf {
             source_bounds: Aabb::new(Vec3::from_array(h.source_min), Vec3::from_array(h.source_max)),
             epsilon: h.epsilon,
             lipschitz: h.lipschitz,
+            cell_lipschitz,
             voxels: VoxelTexture { dims: h.block_dims, texels },
             hash,
             info,

@@ -162,6 +162,9 @@ pub struct Adf {
     pub(crate) epsilon: f32,
     /// Lipschitz bound of the reconstructed field (`crack.rs`).
     pub(crate) lipschitz: f32,
+    /// Per internal cell (block order), the Lipschitz bound inside it: the sphere
+    /// tracer's local step (`trace.rs`).
+    pub(crate) cell_lipschitz: Vec<f32>,
     pub(crate) voxels: VoxelTexture,
     pub(crate) hash: PerfectHash,
     pub(crate) info: BuildInfo,
@@ -205,7 +208,8 @@ impl Adf {
         }
         let map = crack::cell_map(&tree);
         let constrained = if t_junction_rule { crack::constrain_t_junctions(&mut tree, &map) } else { 0 };
-        let lipschitz = crack::lipschitz(&tree, &map, cube.size);
+        let cell_lipschitz = crack::lipschitz(&tree, &map, cube.size);
+        let lipschitz = cell_lipschitz.first().copied().unwrap_or(1.0);
         let voxels = VoxelTexture::pack(&tree.blocks);
         let build_ms = t0.elapsed().as_secs_f32() * 1e3;
 
@@ -219,6 +223,7 @@ impl Adf {
             source_bounds: bounds,
             epsilon: eps,
             lipschitz,
+            cell_lipschitz,
             voxels,
             hash,
             info: BuildInfo {
@@ -278,9 +283,14 @@ impl Adf {
         self.epsilon
     }
 
-    /// The Lipschitz bound of the reconstructed field (the sphere tracer's step divisor).
+    /// The Lipschitz bound of the reconstructed field, over the whole cube.
     pub fn lipschitz(&self) -> f32 {
         self.lipschitz
+    }
+
+    /// The Lipschitz bound inside each internal cell (block order).
+    pub fn cell_lipschitz(&self) -> &[f32] {
+        &self.cell_lipschitz
     }
 
     /// What the build recorded.

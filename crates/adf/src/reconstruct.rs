@@ -5,7 +5,7 @@
 //! The interpolation is done here in `f32` from 8 fetches rather than by a texture
 //! unit's fixed-point filter, so CPU and GPU can agree to float precision.
 
-use crate::{Adf, Search};
+use crate::{Adf, Located, Search};
 use dynray_geom::Vec3;
 
 impl Adf {
@@ -29,6 +29,13 @@ impl Adf {
     /// The reconstructed distance at unit-cube point `u` (clamped into the cube).
     #[inline]
     pub(crate) fn distance_unit(&self, u: Vec3, search: Search, hint: &mut u32) -> f32 {
+        self.sample_unit(u, search, hint).0
+    }
+
+    /// The reconstructed distance at unit-cube point `u` (clamped into the cube), the
+    /// deepest internal cell it was read from and the point's finest-level coordinates.
+    #[inline]
+    pub(crate) fn sample_unit(&self, u: Vec3, search: Search, hint: &mut u32) -> (f32, Located, [u32; 3]) {
         let u = u.clamp(Vec3::ZERO, Vec3::ONE);
         let q = self.fine_coords(u);
         let cell = self.locate_fine(q, search, hint);
@@ -36,11 +43,17 @@ impl Adf {
         let idx = q.map(|c| c >> (self.max_level - leaf));
         let scale = (1u32 << leaf) as f32;
         let t = [0, 1, 2].map(|k| (u[k] * scale - idx[k] as f32).clamp(0.0, 1.0));
+        (crate::build::trilinear(&self.leaf_corners(cell, q), t), cell, q)
+    }
+
+    /// The 8 samples of the leaf holding fine coordinates `q`, child of `cell`.
+    #[inline]
+    pub(crate) fn leaf_corners(&self, cell: Located, q: [u32; 3]) -> impl Fn(u32, u32, u32) -> f32 + '_ {
+        let idx = q.map(|c| c >> (self.max_level - cell.level - 1));
         let o = self.voxels.origin(cell.block);
-        let at = |x: u32, y: u32, z: u32| {
+        move |x: u32, y: u32, z: u32| {
             self.voxels.texel(o[0] + (idx[0] & 1) + x, o[1] + (idx[1] & 1) + y, o[2] + (idx[2] & 1) + z)
-        };
-        crate::build::trilinear(&at, t)
+        }
     }
 
     /// Gradient of the reconstructed field at world point `p` (central differences half a

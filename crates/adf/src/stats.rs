@@ -15,6 +15,9 @@ pub struct MemoryFigures {
     pub cell_table_bytes: u64,
     /// Φ (`r̄³` entries of 8 bytes).
     pub offset_table_bytes: u64,
+    /// The sphere tracer's per-cell Lipschitz bounds (4 bytes per internal cell; not in
+    /// the seed's layout).
+    pub step_bound_bytes: u64,
     /// A full grid of 4-byte samples at the finest resolution, `(2^L + 1)^3`.
     pub full_grid_bytes: u64,
     /// The classic ADF's voxels: 8 of 4 bytes in every non-root cell.
@@ -27,7 +30,7 @@ pub struct MemoryFigures {
 impl MemoryFigures {
     /// Everything the field stores.
     pub fn total_bytes(&self) -> u64 {
-        self.voxel_bytes + self.cell_table_bytes + self.offset_table_bytes
+        self.voxel_bytes + self.cell_table_bytes + self.offset_table_bytes + self.step_bound_bytes
     }
 
     /// The classic ADF's total.
@@ -48,6 +51,7 @@ impl Adf {
             voxel_block_bytes: 27 * 4 * n,
             cell_table_bytes: table as u64,
             offset_table_bytes: phi as u64,
+            step_bound_bytes: 4 * self.cell_lipschitz.len() as u64,
             full_grid_bytes: 4 * side * side * side,
             classic_voxel_bytes: 8 * 4 * cells.saturating_sub(1),
             classic_cell_bytes: 8 * cells,

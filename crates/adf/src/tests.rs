@@ -277,3 +277,42 @@ fn a_mesh_field_is_signed_and_the_same_for_any_thread_count() {
     assert!((a.distance(Vec3::splat(0.5), Search::Linear).unwrap() + 0.5).abs() < 1e-3);
     assert!((a.distance(Vec3::new(1.05, 0.5, 0.5), Search::Linear).unwrap() - 0.05).abs() < 2e-3);
 }
+
+#[test]
+fn local_steps_find_the_crossings_a_dense_march_finds_in_fewer_samples() {
+    let adf = sphere_adf(7, 1e-3, true);
+    let finest = adf.cube.size / 128.0;
+    let mut rng = Rng(17);
+    let (mut ours, mut dense_samples) = (0u64, 0u64);
+    for _ in 0..400 {
+        let origin = adf.cube.origin + rng.v() * adf.cube.size;
+        let dir = (rng.v() - 0.5).normalize();
+        let ray = dynray_geom::Ray::new(origin, dir);
+        let (hit, n) = adf.march_counted(&ray);
+        ours += n as u64;
+        // Reference: fixed steps of a twentieth of a finest cell, no bound trusted.
+        let (t0, t1) = adf.cube.bounds().clip(&dynray_geom::PreparedRay::new(&ray), 0.0, f32::INFINITY).unwrap();
+        let f = |t: f32| adf.distance(ray.at(t), Search::Linear).unwrap_or(1.0);
+        let (s0, step) = (f(t0), finest / 20.0);
+        let mut t = t0;
+        let mut want = None;
+        while t < t1 {
+            let tn = (t + step).min(t1);
+            dense_samples += 1;
+            if (f(tn) <= 0.0) != (s0 <= 0.0) {
+                want = Some(tn);
+                break;
+            }
+            t = tn;
+        }
+        match (hit, want) {
+            (Some(a), Some(b)) => assert!((a - b).abs() <= 2.0 * step, "hit at {a}, dense march at {b}"),
+            (None, None) => {}
+            (a, b) => panic!("march {a:?} vs dense march {b:?} along {ray:?}"),
+        }
+    }
+    assert!(ours * 10 < dense_samples, "{ours} samples vs {dense_samples} of the dense march");
+    // The root's bound is the global one, and every cell's is within it.
+    assert_eq!(adf.cell_lipschitz[0], adf.lipschitz);
+    assert!(adf.cell_lipschitz.iter().all(|&l| l <= adf.lipschitz));
+}
