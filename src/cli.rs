@@ -36,6 +36,39 @@ pub enum Command {
     /// Measure acceleration structures on test models: build, memory, Mrays/s, work per
     /// ray, time to image, heat maps; every structure checked against brute force.
     Bench(BenchArgs),
+    /// Adaptively sampled distance fields (docs/adf.md): `adf build` makes a .adf file
+    /// from a mesh, which `render` and `info` then read.
+    Adf(AdfArgs),
+}
+
+/// `dynray adf`.
+#[derive(Args, Debug)]
+pub struct AdfArgs {
+    #[command(subcommand)]
+    pub command: AdfCommand,
+}
+
+/// `dynray adf` subcommands.
+#[derive(Subcommand, Debug)]
+pub enum AdfCommand {
+    /// Build the distance field of a mesh (or of a scene's triangles) into a .adf file.
+    Build(AdfBuildArgs),
+}
+
+/// `dynray adf build`.
+#[derive(Args, Debug)]
+pub struct AdfBuildArgs {
+    /// Mesh or scene file (.ply, .obj, .gltf, .scn, ...).
+    pub mesh: PathBuf,
+    /// The .adf file to write (written to a temporary name, then renamed).
+    #[arg(short, long, value_name = "FILE.adf")]
+    pub output: PathBuf,
+    /// Deepest octree level, 1 to 10 (cells near the surface reach it).
+    #[arg(long, value_name = "L", default_value_t = 8)]
+    pub max_level: u32,
+    /// Subdivision tolerance, as a fraction of the field's cube edge.
+    #[arg(long, value_name = "E", default_value_t = 1e-3)]
+    pub epsilon: f32,
 }
 
 /// Where rays are traced (docs/gpu.md).
@@ -90,7 +123,8 @@ pub struct TimeArgs {
 /// `dynray render`.
 #[derive(Args, Debug)]
 pub struct RenderArgs {
-    /// Scene or mesh file; without it, the built-in demo scene is rendered.
+    /// Scene, mesh or distance-field (.adf) file; without it, the built-in demo scene is
+    /// rendered.
     pub scene: Option<PathBuf>,
     /// Output image: .png, .bmp or .exr.
     #[arg(short, long, default_value = "dynray.png")]
@@ -287,7 +321,7 @@ fn parse_shard(s: &str) -> Result<(u32, u32), String> {
 /// `dynray info`.
 #[derive(Args, Debug)]
 pub struct InfoArgs {
-    /// Scene or mesh file.
+    /// Scene, mesh or distance-field (.adf) file.
     #[arg(required_unless_present = "gpu")]
     pub file: Option<PathBuf>,
     /// List the GPU adapters (name, driver, the features and limits the kernels use) and

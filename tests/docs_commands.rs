@@ -121,10 +121,31 @@ fn help_of(sub: Option<&str>) -> String {
     String::from_utf8(o.stdout).unwrap()
 }
 
+/// The word after subcommand `sub` when it names a nested subcommand (lower-case
+/// letters only, as `build` in `dynray adf build MESH`).
+fn nested_subcommand<'a>(args: &'a [String], sub: &str) -> Option<&'a str> {
+    let at = args.iter().position(|a| a == sub)?;
+    let next = args.get(at + 1)?;
+    (!next.is_empty() && next.chars().all(|c| c.is_ascii_lowercase())).then_some(next.as_str())
+}
+
+fn help_of_nested(sub: &str, nested: &str) -> String {
+    let o = Command::new(env!("CARGO_BIN_EXE_dynray")).args([sub, nested, "--help"]).output().expect("run dynray");
+    if o.status.success() {
+        String::from_utf8(o.stdout).unwrap()
+    } else {
+        String::new()
+    }
+}
+
 /// Checks a synopsis against `--help`; returns what is wrong.
 fn check_synopsis(d: &Documented) -> Vec<String> {
     let sub = subcommand(&d.args);
-    let help = format!("{}\n{}", help_of(sub), help_of(None));
+    let mut help = format!("{}\n{}", help_of(sub), help_of(None));
+    // A nested subcommand (`adf build`): its own options too.
+    if let Some(nested) = sub.and_then(|s| nested_subcommand(&d.args, s)) {
+        help.push_str(&help_of_nested(sub.unwrap_or(""), nested));
+    }
     let mut wrong = Vec::new();
     let words: Vec<String> = d
         .args

@@ -24,6 +24,9 @@ pub fn run(a: InfoArgs) -> Result<()> {
 }
 
 fn file_info(out: &mut impl Write, file: &std::path::Path, a: &InfoArgs) -> Result<()> {
+    if super::adf::is_adf(file) {
+        return super::adf::info(out, file);
+    }
     // Loaded unshaded, then shaded as `render` does, so the file's own counts are shown
     // and the two steps are timed apart.
     let t0 = Instant::now();

@@ -1,5 +1,6 @@
 //! One module per subcommand; `run` applies the global options and dispatches.
 
+mod adf;
 mod animate;
 mod animate_tracer;
 mod bench;
@@ -28,6 +29,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Info(a) => info::run(a),
         Command::Animate(a) => animate::run(a),
         Command::Bench(a) => bench::run(a),
+        Command::Adf(a) => adf::run(a),
     }
 }
 

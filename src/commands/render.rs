@@ -1,12 +1,14 @@
-//! `dynray render`: scene or mesh file (or the built-in demo) -> image.
+//! `dynray render`: scene, mesh or distance-field file (or the built-in demo) -> image.
 
 use super::thousands;
 use crate::cli::RenderArgs;
 use anyhow::{bail, Context, Result};
 use dynray_accel::{AccelKind, Bvh};
+use dynray_adf::{Adf, AdfGeometry};
 use dynray_gpu::{GpuBuild, GpuBvh, GpuContext, GpuOptions, GpuRenderOptions, GpuRenderer};
 use dynray_render::{
-    render, render_aov, write_aov, write_image, IntegratorKind, IntegratorParams, OutputFormat, RenderOptions,
+    render, render_aov, render_with, write_aov, write_image, AovIntegrator, Geometry, IntegratorKind, IntegratorParams,
+    OutputFormat, RenderOptions, SceneIntersector,
 };
 use dynray_scene::{Frame, Shading};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -23,9 +25,15 @@ pub fn run(a: RenderArgs) -> Result<()> {
         }
         _ => {}
     }
-    let (mut scene, label) = match &a.scene {
-        Some(p) => (super::load_unshaded(p)?, p.display().to_string()),
-        None => (dynray_scene::demo::demo_scene(), "built-in demo scene".to_string()),
+    // A distance field is rendered in the scene its source mesh would have had.
+    let field = match &a.scene {
+        Some(p) if super::adf::is_adf(p) => Some(super::adf::load(p)?),
+        _ => None,
+    };
+    let (mut scene, label) = match (&a.scene, &field) {
+        (Some(p), Some(adf)) => (super::adf::scene_of(adf), p.display().to_string()),
+        (Some(p), None) => (super::load_unshaded(p)?, p.display().to_string()),
+        (None, _) => (dynray_scene::demo::demo_scene(), "built-in demo scene".to_string()),
     };
     // Before applying the shading, so that no normals are generated only to be dropped.
     if a.flat_shading {
@@ -67,6 +75,14 @@ pub fn run(a: RenderArgs) -> Result<()> {
     }
 
     a.backend.check()?;
+    if let Some(adf) = &field {
+        if a.backend.gpu_options().is_some() {
+            bail!("{label}: distance fields are rendered on the CPU only for now; drop --backend gpu");
+        }
+        let options =
+            RenderOptions { spp, seed: a.seed, integrator: a.integrator, params, passes, ..Default::default() };
+        return render_field(&a, &frame, &label, adf, &options);
+    }
     if let Some(gpu) = a.backend.gpu_options() {
         return render_on_gpu(&a, &frame, &label, (spp, passes, params), &gpu);
     }
@@ -133,6 +149,36 @@ pub fn run(a: RenderArgs) -> Result<()> {
         film.height(),
         thousands(stats.total_rays() as usize),
         stats.total_rays() as f64 / secs / 1e6,
+        a.output.display()
+    );
+    Ok(())
+}
+
+/// A distance field (`.adf`) as the scene's one geometry, through the same render loop,
+/// integrators and AOVs as triangles, shaded with the default material.
+fn render_field(a: &RenderArgs, frame: &Frame, label: &str, adf: &Adf, options: &RenderOptions<'_>) -> Result<()> {
+    let material = frame.materials.first().cloned().unwrap_or_default();
+    let geometry: Vec<Box<dyn Geometry + '_>> = vec![Box::new(AdfGeometry::new(adf, material))];
+    let scene = SceneIntersector::new(geometry);
+    let t0 = Instant::now();
+    let what = if let Some(aov) = a.aov {
+        let one = RenderOptions { spp: 1, passes: 1, ..*options };
+        let film = render_with(frame, &AovIntegrator::new(aov, &scene), &one).0;
+        write_aov(&film, aov, &a.output)?;
+        format!("{aov} AOV")
+    } else {
+        let integrator = a.integrator.create(frame, &scene, &options.params);
+        let film = render_with(frame, integrator.as_ref(), options).0;
+        write_image(&film, &a.output)?;
+        format!("{} render", a.integrator)
+    };
+    eprintln!(
+        "{label}: distance field of max level {} ({} internal cells), {what} {:.1} ms ({}x{}) -> {}",
+        adf.max_level(),
+        thousands(adf.internal_cells() as usize),
+        t0.elapsed().as_secs_f64() * 1e3,
+        frame.settings.width,
+        frame.settings.height,
         a.output.display()
     );
     Ok(())

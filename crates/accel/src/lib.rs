@@ -68,7 +68,7 @@ pub use apit::{ABuffer, Apit, ApitParams, Fragment};
 pub use batch::{check_batch_lengths, BatchQuery, BATCH_CHUNK};
 pub use bih::{Bih, BihParams};
 pub use brute::Brute;
-pub use bvh::{Bvh, BvhNode, BvhParams, InvalidBvh};
+pub use bvh::{Bvh, BvhNode, BvhParams, ClosestPoint, InvalidBvh};
 pub use counters::{Counter, NoCount, TraversalCounts};
 pub use error::BuildError;
 pub use grid::{Grid, GridParams};

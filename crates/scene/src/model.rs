@@ -318,10 +318,16 @@ impl Scene {
 
     /// Adds a white point light above and in front of the scene when it has none.
     pub fn add_default_light(&mut self) {
+        self.add_default_light_around(self.bounds());
+    }
+
+    /// [`Scene::add_default_light`] placed for geometry within `b` rather than the
+    /// actors' bounds: for geometry that is no actor (a distance field), so it is lit as
+    /// its source mesh was. Does nothing when the scene has lights.
+    pub fn add_default_light_around(&mut self, b: Aabb) {
         if !self.lights.is_empty() {
             return;
         }
-        let b = self.bounds();
         let (c, r) = if b.is_empty() { (Vec3::ZERO, 1.0) } else { (b.center(), b.extent().length().max(1e-3)) };
         self.lights.push(Light {
             kind: LightKind::Point { position: c + Vec3::new(0.6, 1.2, 1.0) * r, falloff: 0 },

@@ -3,18 +3,21 @@
 //! `k` bins per axis, stored as a flat array of 32-byte nodes.
 //!
 //! Files: [`params`] (presets), [`node`] (encoding), `build.rs` (parallel deterministic
-//! builder), `traverse.rs` (closest and any hit), `refit.rs`, `validate.rs`.
+//! builder), `traverse.rs` (closest and any hit), `closest.rs` (closest-point query),
+//! `refit.rs`, `validate.rs`.
 //!
 //! Leaf size `M` (the seed found 5): measured with `benches/bvh.rs` on this 2-core machine,
 //! see the comment on [`BvhParams::default`].
 
 mod build;
+mod closest;
 pub mod node;
 pub mod params;
 mod refit;
 mod traverse;
 mod validate;
 
+pub use closest::{closest_on_triangle, closest_point_brute, ClosestPoint};
 pub use node::BvhNode;
 pub use params::BvhParams;
 pub use validate::{BvhStats, InvalidBvh};

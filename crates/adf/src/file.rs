@@ -1,0 +1,291 @@
+//! The `.adf` file (docs/adf.md, "File format"): a fixed little-endian header, the three
+//! tables as they upload (voxel texture, H, Φ), and an FNV-1a checksum of everything
+//! before it. Loading checks the magic, the version, that the sizes the header gives add
+//! up to the file's length (before reading any table), the checksum, and every table
+//! entry the lookups index with, so a damaged file is an error naming it, never a panic.
+//! Writing goes to a temporary file in the same folder, renamed over the target when
+//! complete: no partial file is ever left under the target's name.
+
+use crate::hash::{key_of_id, CellEntry, PerfectHash, PhiEntry};
+use crate::{Adf, BuildInfo, Cube, FileError, View, ViewProjection, VoxelTexture, MAX_LEVEL};
+use bytemuck::{Pod, Zeroable};
+use dynray_geom::{Aabb, Vec3};
+use std::io::Write;
+use std::path::Path;
+
+/// The first 8 bytes of every `.adf` file.
+pub const MAGIC: [u8; 8] = *b"DYNRADF\0";
+/// The format version this build reads and writes.
+pub const FORMAT_VERSION: u32 = 1;
+
+// The tables are cast to bytes as they are in memory.
+const _: () = assert!(cfg!(target_endian = "little"), "the .adf format is little-endian");
+
+/// Levels the header has counts for.
+const LEVEL_SLOTS: usize = MAX_LEVEL as usize + 1;
+
+/// The header, 4-byte fields only (no padding).
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct Header {
+    magic: [u8; 8],
+    version: u32,
+    header_bytes: u32,
+    max_level: u32,
+    internal_cells: u32,
+    block_dims: [u32; 3],
+    hash_m: u32,
+    hash_r: u32,
+    hash_attempts: u32,
+    cube_origin: [f32; 3],
+    cube_size: f32,
+    source_min: [f32; 3],
+    source_max: [f32; 3],
+    epsilon: f32,
+    lipschitz: f32,
+    build_ms: f32,
+    hash_ms: f32,
+    triangles: [u32; 2],
+    constrained_samples: [u32; 2],
+    /// 0: no view; 1: perspective (`view_param` = fov_y degrees); 2: parallel (height).
+    view_kind: u32,
+    view_param: f32,
+    view_position: [f32; 3],
+    view_look_at: [f32; 3],
+    view_up: [f32; 3],
+    internal_per_level: [u32; LEVEL_SLOTS],
+    leaves_per_level: [[u32; 2]; LEVEL_SLOTS],
+}
+
+// 74 four-byte fields; docs/adf.md gives this size.
+const _: () = assert!(std::mem::size_of::<Header>() == 296);
+
+fn split(x: u64) -> [u32; 2] {
+    [x as u32, (x >> 32) as u32]
+}
+
+fn join(x: [u32; 2]) -> u64 {
+    x[0] as u64 | (x[1] as u64) << 32
+}
+
+/// FNV-1a, 64 bits.
+fn fnv1a(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &b| (h ^ b as u64).wrapping_mul(0x0100_0000_01b3))
+}
+
+impl Adf {
+    /// The file's bytes.
+    pub fn to_bytes(&self) -> Vec<u8> {
+        let i = &self.info;
+        let mut internal_per_level = [0u32; LEVEL_SLOTS];
+        let mut leaves_per_level = [[0u32; 2]; LEVEL_SLOTS];
+        for (l, (&n, &m)) in i.internal_per_level.iter().zip(&i.leaves_per_level).enumerate().take(LEVEL_SLOTS) {
+            internal_per_level[l] = n as u32;
+            leaves_per_level[l] = split(m);
+        }
+        let (view_kind, view_param, v) = match i.view {
+            None => (
+                0,
+                0.0,
+                View {
+                    position: Vec3::ZERO,
+                    look_at: Vec3::ZERO,
+                    up: Vec3::ZERO,
+                    projection: ViewProjection::Parallel(0.0),
+                },
+            ),
+            Some(v) => match v.projection {
+                ViewProjection::Perspective(f) => (1, f, v),
+                ViewProjection::Parallel(h) => (2, h, v),
+            },
+        };
+        let h = Header {
+            magic: MAGIC,
+            version: FORMAT_VERSION,
+            header_bytes: std::mem::size_of::<Header>() as u32,
+            max_level: self.max_level,
+            internal_cells: self.internal_cells() as u32,
+            block_dims: self.voxels.dims,
+            hash_m: self.hash.m,
+            hash_r: self.hash.r,
+            hash_attempts: self.hash.attempts,
+            cube_origin: self.cube.origin.to_array(),
+            cube_size: self.cube.size,
+            source_min: self.source_bounds.min.to_array(),
+            source_max: self.source_bounds.max.to_array(),
+            epsilon: self.epsilon,
+            lipschitz: self.lipschitz,
+            build_ms: i.build_ms,
+            hash_ms: i.hash_ms,
+            triangles: split(i.triangles),
+            constrained_samples: split(i.constrained_samples),
+            view_kind,
+            view_param,
+            view_position: v.position.to_array(),
+            view_look_at: v.look_at.to_array(),
+            view_up: v.up.to_array(),
+            internal_per_level,
+            leaves_per_level,
+        };
+        let mut out = Vec::with_capacity(std::mem::size_of::<Header>() + self.voxels.memory_bytes() + 8);
+        out.extend_from_slice(bytemuck::bytes_of(&h));
+        out.extend_from_slice(bytemuck::cast_slice(&self.voxels.texels));
+        out.extend_from_slice(bytemuck::cast_slice(&self.hash.table));
+        out.extend_from_slice(bytemuck::cast_slice(&self.hash.phi));
+        out.extend_from_slice(bytemuck::cast_slice(&self.cell_lipschitz));
+        let sum = fnv1a(&out);
+        out.extend_from_slice(&sum.to_le_bytes());
+        out
+    }
+
+    /// Writes the file atomically (a temporary file beside it, renamed when complete).
+    pub fn save(&self, path: &Path) -> Result<(), FileError> {
+        let io = |source| FileError::Io { path: path.to_path_buf(), source };
+        let dir = match path.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d,
+            _ => Path::new("."),
+        };
+        let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
+        let result = std::fs::File::create(&tmp)
+            .and_then(|mut f| f.write_all(&self.to_bytes()).and_then(|_| f.sync_all()))
+            .and_then(|_| std::fs::rename(&tmp, path));
+        if result.is_err() {
+            let _ = std::fs::remove_file(&tmp);
+        }
+        result.map_err(io)
+    }
+
+    /// Reads and checks a file (module docs).
+    pub fn load(path: &Path) -> Result<Self, FileError> {
+        let bytes = std::fs::read(path).map_err(|source| FileError::Io { path: path.to_path_buf(), source })?;
+        Self::from_bytes(&bytes, path)
+    }
+
+    /// Parses and checks a file's bytes; `path` names it in errors.
+    pub fn from_bytes(bytes: &[u8], path: &Path) -> Result<Self, FileError> {
+        let corrupt = |what: String| FileError::Corrupt { path: path.to_path_buf(), what };
+        if bytes.len() < 12 || bytes[..8] != MAGIC {
+            return Err(FileError::NotAdf { path: path.to_path_buf() });
+        }
+        let version = u32::from_le_bytes([bytes[8], bytes[9], bytes[10], bytes[11]]);
+        if version != FORMAT_VERSION {
+            return Err(FileError::Version { path: path.to_path_buf(), found: version, supported: FORMAT_VERSION });
+        }
+        let hsize = std::mem::size_of::<Header>();
+        let length =
+            |expected: u64| FileError::Length { path: path.to_path_buf(), expected, found: bytes.len() as u64 };
+        if bytes.len() < hsize {
+            return Err(length(hsize as u64 + 8));
+        }
+        let h: Header = bytemuck::pod_read_unaligned(&bytes[..hsize]);
+        if h.header_bytes as usize != hsize {
+            return Err(corrupt(format!("header of {} bytes, expected {hsize}", h.header_bytes)));
+        }
+        if !(1..=MAX_LEVEL).contains(&h.max_level) {
+            return Err(corrupt(format!("max level {} outside 1..={MAX_LEVEL}", h.max_level)));
+        }
+        // Sizes in u64: a header claiming huge tables overflows nothing and is caught by
+        // the length check before anything is allocated.
+        let slots: u64 = h.block_dims.iter().map(|&d| d as u64).product();
+        let (voxels, table, phi) = (27 * slots, (h.hash_m as u64).pow(3), (h.hash_r as u64).pow(3));
+        let expected = hsize as u64 + 4 * voxels + 8 * table + 8 * phi + 4 * h.internal_cells as u64 + 8;
+        if bytes.len() as u64 != expected {
+            return Err(length(expected));
+        }
+        let body = bytes.len() - 8;
+        let mut sum = [0u8; 8];
+        sum.copy_from_slice(&bytes[body..]);
+        if fnv1a(&bytes[..body]) != u64::from_le_bytes(sum) {
+            return Err(corrupt("checksum mismatch".into()));
+        }
+        let n = h.internal_cells as u64;
+        if n == 0 || slots < n || table < n || h.hash_r == 0 || h.block_dims.contains(&0) {
+            return Err(corrupt(format!(
+                "{n} internal cells do not fit {slots} blocks or a {}^3 cell table",
+                h.hash_m
+            )));
+        }
+        let floats = [h.cube_size, h.epsilon, h.lipschitz]
+            .into_iter()
+            .chain(h.cube_origin)
+            .chain(h.source_min)
+            .chain(h.source_max);
+        if floats.into_iter().any(|x| !x.is_finite()) || h.cube_size <= 0.0 {
+            return Err(corrupt("non-finite or non-positive cube, bounds, epsilon or Lipschitz bound".into()));
+        }
+        let (v0, t0) = (hsize, hsize + 4 * voxels as usize);
+        let p0 = t0 + 8 * table as usize;
+        let l0 = p0 + 8 * phi as usize;
+        let texels: Vec<f32> = bytemuck::pod_collect_to_vec(&bytes[v0..t0]);
+        let table: Vec<CellEntry> = bytemuck::pod_collect_to_vec(&bytes[t0..p0]);
+        let phi: Vec<PhiEntry> = bytemuck::pod_collect_to_vec(&bytes[p0..l0]);
+        let cell_lipschitz: Vec<f32> = bytemuck::pod_collect_to_vec(&bytes[l0..body]);
+        if cell_lipschitz.iter().any(|x| !(x.is_finite() && *x >= 0.0)) {
+            return Err(corrupt("negative or non-finite Lipschitz bound of a cell".into()));
+        }
+        if texels.iter().any(|x| !x.is_finite()) {
+            return Err(corrupt("non-finite voxel".into()));
+        }
+        if let Some(e) =
+            phi.iter().find(|e| e.w == 0 || e.w as u32 > h.hash_m || e.t.iter().any(|&t| t as u32 >= h.hash_m))
+        {
+            return Err(corrupt(format!("offset entry {e:?} outside the {}^3 cell table", h.hash_m)));
+        }
+        let hash = PerfectHash { m: h.hash_m, r: h.hash_r, phi, table, attempts: h.hash_attempts };
+        // Every stored cell must be where its key hashes, inside the tree, and name a block.
+        let mut stored = 0u64;
+        for (s, e) in hash.table.iter().enumerate().filter(|(_, e)| e.id != 0) {
+            let k = key_of_id(e.id);
+            let level = 31 - k[0].max(1).leading_zeros();
+            let same_level = k.iter().all(|&c| c >= 1 && 31 - c.leading_zeros() == level);
+            if !same_level || level >= h.max_level || hash.slot(k) != s || e.block as u64 >= n {
+                return Err(corrupt(format!("cell table slot {s} holds an invalid entry {e:?}")));
+            }
+            stored += 1;
+        }
+        if stored != n || hash.find([1, 1, 1]).is_none() {
+            return Err(corrupt(format!("{stored} cells in the table, header says {n} (root included)")));
+        }
+        let view = match h.view_kind {
+            0 => None,
+            k @ (1 | 2) => {
+                let v = [h.view_position, h.view_look_at, h.view_up].map(Vec3::from_array);
+                if v.iter().any(|x| !x.is_finite()) || !h.view_param.is_finite() {
+                    return Err(corrupt("non-finite view".into()));
+                }
+                let projection = if k == 1 {
+                    ViewProjection::Perspective(h.view_param)
+                } else {
+                    ViewProjection::Parallel(h.view_param)
+                };
+                Some(View { position: v[0], look_at: v[1], up: v[2], projection })
+            }
+            k => return Err(corrupt(format!("unknown view kind {k}"))),
+        };
+        let levels = h.max_level as usize + 1;
+        let info = BuildInfo {
+            internal_per_level: h.internal_per_level[..levels].iter().map(|&x| x as u64).collect(),
+            leaves_per_level: h.leaves_per_level[..levels].iter().map(|&x| join(x)).collect(),
+            build_ms: h.build_ms,
+            hash_ms: h.hash_ms,
+            constrained_samples: join(h.constrained_samples),
+            triangles: join(h.triangles),
+            view,
+        };
+        if info.internal_per_level.iter().sum::<u64>() != n {
+            return Err(corrupt("per-level cell counts do not add up".into()));
+        }
+        Ok(Adf {
+            max_level: h.max_level,
+            cube: Cube { origin: Vec3::from_array(h.cube_origin), size: h.cube_size },
+            source_bounds: Aabb::new(Vec3::from_array(h.source_min), Vec3::from_array(h.source_max)),
+            epsilon: h.epsilon,
+            lipschitz: h.lipschitz,
+            cell_lipschitz,
+            voxels: VoxelTexture { dims: h.block_dims, texels },
+            hash,
+            info,
+        })
+    }
+}

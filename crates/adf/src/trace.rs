@@ -1,0 +1,176 @@
+//! Sphere tracing of the reconstructed field, and the field as a geometry of the
+//! scene-level intersector (so every integrator and AOV shades it).
+//!
+//! A ray is clipped to the cube, then marched by `|d| / L` (a Lipschitz bound of the
+//! field, `crack.rs`: no surface lies nearer than that) — `L` the bound of the smallest
+//! cell the step stays in, so that a steep spot (the cap the sign vote puts over a
+//! mesh's hole) slows only the rays near it — but at least `MIN_STEP` of a finest
+//! cell, until the field changes sign relative to where the ray started; the crossing
+//! is then refined by bisection to float precision. Where a ray starts on the surface
+//! (a shadow or reflection ray leaves a hit offset by a hair) the side it starts on is
+//! the side it moves to, by the gradient, so it does not re-hit its own surface. The
+//! minimum step can step over a feature thinner than itself (a tenth of a finest cell,
+//! below what the samples resolve); a ray still marching after [`MAX_MARCH_STEPS`] is a
+//! miss.
+
+use crate::crack::leaf_gradient_bound;
+use crate::{Adf, Located, Search};
+use dynray_geom::{Aabb, Hit, PreparedRay, Ray, Vec2, Vec3};
+use dynray_render::{Geometry, GeometryRef, SurfaceHit};
+use dynray_scene::{Color, Material};
+
+/// Steps a ray may take through the cube before it counts as a miss.
+pub const MAX_MARCH_STEPS: u32 = 4096;
+/// The smallest step, in finest cells.
+const MIN_STEP: f32 = 0.1;
+/// Bisection steps refining a crossing (each halves the interval).
+const REFINE_STEPS: u32 = 24;
+
+impl Adf {
+    /// The first crossing of the surface along `ray` within `[tmin, tmax]`: its `t`.
+    pub fn march(&self, ray: &Ray) -> Option<f32> {
+        self.march_counted(ray).0
+    }
+
+    /// [`Adf::march`] and the field samples it took.
+    pub fn march_counted(&self, ray: &Ray) -> (Option<f32>, u32) {
+        let Some((t0, t1)) = self.cube.bounds().clip(&PreparedRay::new(ray), ray.tmin, ray.tmax) else {
+            return (None, 0);
+        };
+        let dl = ray.dir.length();
+        if !(dl > 0.0 && dl.is_finite()) {
+            return (None, 0);
+        }
+        let finest = self.cube.size / (1u32 << self.max_level) as f32;
+        let min_step = MIN_STEP * finest / dl;
+        let du = ray.dir / self.cube.size;
+        let mut hint = 0;
+        let mut samples = 1;
+        let mut t = t0.max(ray.tmin);
+        let (mut d, mut cell, mut q) = self.sample_unit(self.unit(ray.at(t)), Search::CoherentLinear, &mut hint);
+        // The side the ray is on: by the field, or for a start on the surface by where it
+        // heads (away from it along the gradient: outside).
+        let outside = if d.abs() > 1e-3 * finest {
+            d > 0.0
+        } else {
+            let mut h = 0;
+            self.gradient(ray.at(t), &mut h).dot(ray.dir) >= 0.0
+        };
+        let crossed = |d: f32| if outside { d <= 0.0 } else { d >= 0.0 };
+        for _ in 0..MAX_MARCH_STEPS {
+            let u = self.unit(ray.at(t));
+            let step = self.safe_step(u, du, d.abs() / dl, cell, q).max(min_step);
+            let tn = (t + step).min(t1);
+            let (dn, cn, qn) = self.sample_unit(self.unit(ray.at(tn)), Search::CoherentLinear, &mut hint);
+            samples += 1;
+            if crossed(dn) {
+                let (mut lo, mut hi) = (t, tn);
+                for _ in 0..REFINE_STEPS {
+                    let mid = 0.5 * (lo + hi);
+                    samples += 1;
+                    if crossed(self.distance_unit(self.unit(ray.at(mid)), Search::CoherentLinear, &mut hint)) {
+                        hi = mid;
+                    } else {
+                        lo = mid;
+                    }
+                }
+                return (Some(hi), samples);
+            }
+            if tn >= t1 {
+                return (None, samples);
+            }
+            (t, d, cell, q) = (tn, dn, cn, qn);
+        }
+        (None, samples)
+    }
+
+    /// How far (in ray parameter) a ray at unit point `u`, moving `du` per unit of `t`,
+    /// can go without crossing the surface, where the field is `reach` (`|d| / |dir|`):
+    /// inside any cell with Lipschitz bound `L`, `reach / L` — but only as far as the ray
+    /// stays in that cell. The leaf's own bound is tried first, then each enclosing cell,
+    /// up to the root (the global bound); the longest safe step wins, and the search stops
+    /// at the first cell the step does not leave.
+    fn safe_step(&self, u: Vec3, du: Vec3, reach: f32, cell: Located, q: [u32; 3]) -> f32 {
+        let exit = |level: u32| {
+            let h = 1.0 / (1u32 << level) as f32;
+            let idx = q.map(|c| (c >> (self.max_level - level)) as f32);
+            (0..3)
+                .map(|k| match du[k] {
+                    x if x > 0.0 => ((idx[k] + 1.0) * h - u[k]) / x,
+                    x if x < 0.0 => (idx[k] * h - u[k]) / x,
+                    _ => f32::INFINITY,
+                })
+                .fold(f32::INFINITY, f32::min)
+                .max(0.0)
+        };
+        let mut best = 0.0f32;
+        let mut consider = |bound: f32, level: u32| {
+            let free = if bound > 0.0 { reach / bound } else { f32::INFINITY };
+            let e = exit(level);
+            best = best.max(free.min(e));
+            free <= e
+        };
+        let leaf_edge = self.cube.size / (1u32 << (cell.level + 1)) as f32;
+        if consider(leaf_gradient_bound(&self.leaf_corners(cell, q), leaf_edge), cell.level + 1) {
+            return best;
+        }
+        for level in (0..=cell.level).rev() {
+            let block = if level == cell.level { Some(cell.block) } else { self.probe(level, q) };
+            let bound = block.and_then(|b| self.cell_lipschitz.get(b as usize)).copied().unwrap_or(self.lipschitz);
+            if consider(bound, level) {
+                break;
+            }
+        }
+        best
+    }
+}
+
+/// A distance field placed in a scene with one material (primitive 0, uv = 0).
+pub struct AdfGeometry<'a> {
+    adf: &'a Adf,
+    material: Material,
+}
+
+impl<'a> AdfGeometry<'a> {
+    /// The field `adf`, shaded with `material`.
+    pub fn new(adf: &'a Adf, material: Material) -> Self {
+        Self { adf, material }
+    }
+}
+
+impl Geometry for AdfGeometry<'_> {
+    fn intersect(&self, ray: &Ray) -> Hit {
+        self.adf.march(ray).map_or(Hit::MISS, |t| Hit { t, u: 0.0, v: 0.0, prim: 0 })
+    }
+
+    fn occluded(&self, ray: &Ray) -> bool {
+        self.adf.march(ray).is_some()
+    }
+
+    fn surface<'a>(&'a self, ray: &Ray, hit: &Hit, geometry: u32) -> Option<SurfaceHit<'a>> {
+        if !hit.is_hit() {
+            return None;
+        }
+        let p = ray.at(hit.t);
+        let mut hint = 0;
+        let mut n = self.adf.gradient(p, &mut hint).normalize_or_zero();
+        if n == Vec3::ZERO || !n.is_finite() {
+            // A flat spot of the field (a saddle of the samples): face the ray.
+            n = -ray.dir.normalize_or_zero();
+        }
+        Some(SurfaceHit {
+            t: hit.t,
+            p,
+            ng: n,
+            ns: n,
+            uv: Vec2::ZERO,
+            material: &self.material,
+            texel: Color::ONE,
+            at: GeometryRef { geometry, instance: 0, prim: 0 },
+        })
+    }
+
+    fn bounds(&self) -> Aabb {
+        self.adf.cube.bounds()
+    }
+}

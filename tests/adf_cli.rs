@@ -1,0 +1,120 @@
+//! `dynray adf build`, `render FILE.adf` and `info FILE.adf` end to end: the bunny as a
+//! distance field covers the same pixels as the bunny mesh, and damaged or impossible
+//! inputs are clear errors that leave no file behind.
+
+mod support;
+
+use std::path::Path;
+use support::{dynray, ok, scenes_dir};
+
+const W: usize = 96;
+const H: usize = 72;
+
+/// Reads the `Z` channel of a depth AOV (row-major, y down).
+fn read_depth(path: &Path) -> Vec<f32> {
+    use exr::prelude::*;
+    let image = read_all_flat_layers_from_file(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let layer = &image.layer_data[0];
+    assert_eq!(layer.size, Vec2(W, H));
+    layer.channel_data.list[0].sample_data.values_as_f32().collect()
+}
+
+fn depth_of(file: &Path, out: &Path) -> Vec<f32> {
+    let (w, h) = (W.to_string(), H.to_string());
+    let args = ["render", file.to_str().unwrap(), "--aov", "depth", "-o", out.to_str().unwrap()];
+    ok(dynray(&[&args[..], &["--width", &w, "--height", &h]].concat()));
+    read_depth(out)
+}
+
+#[test]
+fn the_bunny_field_covers_the_bunny_mesh_and_reports_its_tables() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = scenes_dir().join("bunny/bun_zipper.ply");
+    let adf = dir.path().join("bunny.adf");
+    let o = ok(dynray(&["adf", "build", mesh.to_str().unwrap(), "-o", adf.to_str().unwrap(), "--max-level", "7"]));
+    let err = String::from_utf8_lossy(&o.stderr);
+    // The bunny has holes in its base: warned, built anyway.
+    assert!(err.contains("warning") && err.contains("boundary"), "{err}");
+    assert!(err.contains("hash") && adf.exists(), "{err}");
+
+    let want = depth_of(&mesh, &dir.path().join("mesh.exr"));
+    let got = depth_of(&adf, &dir.path().join("adf.exr"));
+    let (mut both, mut either) = (0, 0);
+    for (a, b) in want.iter().zip(&got) {
+        let (a, b) = (a.is_finite(), b.is_finite());
+        both += (a && b) as usize;
+        either += (a || b) as usize;
+    }
+    let iou = both as f64 / either.max(1) as f64;
+    eprintln!("bunny depth coverage: {both} of {either} pixels, IoU {iou:.4}");
+    assert!(either > W * H / 10, "the bunny fills too little of the view: {either} pixels");
+    assert!(iou >= 0.98, "coverage IoU {iou:.4} < 0.98");
+    // Where both hit, the depths agree to a few finest cells.
+    let worst = want.iter().zip(&got).filter(|(a, b)| a.is_finite() && b.is_finite()).map(|(a, b)| (a - b).abs());
+    let worst = worst.fold(0.0f32, f32::max);
+    assert!(worst < 0.02, "depths differ by {worst}");
+
+    let info = ok(dynray(&["info", adf.to_str().unwrap()]));
+    let text = String::from_utf8_lossy(&info.stdout);
+    for line in ["internal", "cell table  H", "offsets     Φ", "classic ADF voxels", "full grid", "hash "] {
+        assert!(text.contains(line), "no `{line}` in:\n{text}");
+    }
+    // Whitted renders it too (lit by the mesh's default light).
+    let png = dir.path().join("bunny.png");
+    ok(dynray(&[
+        "render",
+        adf.to_str().unwrap(),
+        "--width",
+        "48",
+        "--height",
+        "36",
+        "--spp",
+        "1",
+        "-o",
+        png.to_str().unwrap(),
+    ]));
+    let img = image::open(&png).unwrap().to_rgb8();
+    assert!(img.pixels().any(|p| p.0.iter().any(|&c| c > 60)), "the lit bunny should show");
+}
+
+#[test]
+fn damaged_files_and_impossible_builds_are_clear_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = scenes_dir().join("bunny/bun_zipper.ply");
+    let adf = dir.path().join("small.adf");
+    ok(dynray(&["adf", "build", mesh.to_str().unwrap(), "-o", adf.to_str().unwrap(), "--max-level", "4"]));
+    let bytes = std::fs::read(&adf).unwrap();
+    let cut = dir.path().join("cut.adf");
+    std::fs::write(&cut, &bytes[..bytes.len() - 10]).unwrap();
+    let mut flipped = bytes.clone();
+    let mid = flipped.len() / 2;
+    flipped[mid] ^= 1;
+    let bad = dir.path().join("bad.adf");
+    std::fs::write(&bad, &flipped).unwrap();
+    for (file, says) in [(&cut, "truncated"), (&bad, "checksum")] {
+        for cmd in ["render", "info"] {
+            let out = dir.path().join("x.exr");
+            let o = dynray(
+                &[cmd, file.to_str().unwrap(), "-o", out.to_str().unwrap()][..if cmd == "info" { 2 } else { 4 }],
+            );
+            let err = String::from_utf8_lossy(&o.stderr);
+            assert_eq!(o.status.code(), Some(1), "{cmd} {}: {err}", file.display());
+            assert!(err.contains(file.to_str().unwrap()) && err.contains(says), "{cmd}: {err}");
+            assert!(!err.contains("panicked") && !out.exists());
+        }
+    }
+    // A level the format does not address: an error, and no file.
+    let deep = dir.path().join("deep.adf");
+    let o = dynray(&["adf", "build", mesh.to_str().unwrap(), "-o", deep.to_str().unwrap(), "--max-level", "11"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("max level 11"), "{err}");
+    assert!(!deep.exists());
+    assert_eq!(
+        std::fs::read_dir(dir.path())
+            .unwrap()
+            .filter(|e| e.as_ref().unwrap().file_name().to_string_lossy().contains("tmp"))
+            .count(),
+        0
+    );
+}
