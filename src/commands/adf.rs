@@ -5,7 +5,7 @@ use super::thousands;
 use crate::cli::{AdfArgs, AdfBuildArgs, AdfCommand};
 use anyhow::{bail, Context, Result};
 use dynray_adf::{Adf, BuildParams, View, ViewProjection, FORMAT_VERSION, SIGN_RAYS};
-use dynray_scene::{Camera, Material, Projection, Scene};
+use dynray_scene::{Camera, Clip, Material, Projection, Scene};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::Write;
 use std::path::Path;
@@ -95,6 +95,8 @@ pub fn scene_of(adf: &Adf) -> Scene {
                 ViewProjection::Perspective(fov_y_deg) => Projection::Perspective { fov_y_deg },
                 ViewProjection::Parallel(height) => Projection::Parallel { height },
             },
+            // The source is a mesh file, whose default view has no clip planes.
+            clip: Clip::NONE,
         },
         None => Camera::framing(&adf.source_bounds()),
     });
