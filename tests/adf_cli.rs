@@ -118,3 +118,89 @@ fn damaged_files_and_impossible_builds_are_clear_errors() {
         0
     );
 }
+
+/// Coverage IoU of two depth AOVs (finite depth = a hit).
+fn coverage_iou(a: &[f32], b: &[f32]) -> (f64, usize) {
+    let (mut both, mut either) = (0, 0);
+    for (a, b) in a.iter().zip(b) {
+        let (a, b) = (a.is_finite(), b.is_finite());
+        both += (a && b) as usize;
+        either += (a || b) as usize;
+    }
+    (both as f64 / either.max(1) as f64, either)
+}
+
+#[test]
+fn a_scene_places_fields_beside_meshes_with_their_transforms() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = scenes_dir().join("bunny/bun_zipper.ply");
+    let adf = dir.path().join("bunny.adf");
+    ok(dynray(&["adf", "build", mesh.to_str().unwrap(), "-o", adf.to_str().unwrap(), "--max-level", "6"]));
+    // Scaled, turned and moved: the field must land where the mesh does under the same
+    // transform (its rays are marched in the field's space, `t` kept).
+    let camera = "camera { perspective position <0.03, 0.12, 0.25> to <0.03, 0.1, -0.1> up <0, 1, 0> angle 40 }\nlight { position <1, 1, 1> }\n";
+    let moved = "transform { scale <0, 0, 0> <1.5, 0.8, 1.2> rotate_y 35 translate <0.05, 0.02, -0.1> }";
+    let write = |name: &str, body: String| {
+        let p = dir.path().join(name);
+        std::fs::write(&p, format!("{camera}{body}\n")).unwrap();
+        p
+    };
+    let m = write("mesh.scn", format!("mesh {{ file \"{}\" {moved} }}", mesh.display()));
+    let f = write("field.scn", format!("adf {{ file \"bunny.adf\" {moved} }}"));
+    let want = depth_of(&m, &dir.path().join("mesh.exr"));
+    let got = depth_of(&f, &dir.path().join("field.exr"));
+    let (iou, either) = coverage_iou(&want, &got);
+    eprintln!("placed field against placed mesh: IoU {iou:.4} over {either} pixels");
+    assert!(either > W * H / 10, "too little in view: {either} pixels");
+    assert!(iou >= 0.97, "coverage IoU {iou:.4} < 0.97");
+    let worst = want.iter().zip(&got).filter(|(a, b)| a.is_finite() && b.is_finite()).map(|(a, b)| (a - b).abs());
+    let worst = worst.fold(0.0f32, f32::max);
+    assert!(worst < 0.03, "depths differ by {worst}");
+
+    // Both in one scene: the nearer wins per pixel, so the depth is the minimum of both.
+    let both = write(
+        "both.scn",
+        format!(
+            "mesh {{ file \"{}\" }}\nadf {{ file \"bunny.adf\" material {{ color rgb(0.9, 0.3, 0.2) }} {moved} }}",
+            mesh.display()
+        ),
+    );
+    let alone =
+        depth_of(&write("alone.scn", format!("mesh {{ file \"{}\" }}", mesh.display())), &dir.path().join("a.exr"));
+    let mixed = depth_of(&both, &dir.path().join("both.exr"));
+    let mut mismatched = 0;
+    for ((m, g), x) in alone.iter().zip(&got).zip(&mixed) {
+        let expect = m.min(*g);
+        if !(expect == *x || (expect.is_infinite() && x.is_infinite())) {
+            mismatched += 1;
+        }
+    }
+    assert_eq!(mismatched, 0, "the mixed scene's depth is not the nearer of mesh and field");
+    let o = ok(dynray(&[
+        "render",
+        both.to_str().unwrap(),
+        "--width",
+        "48",
+        "--height",
+        "36",
+        "--spp",
+        "1",
+        "-o",
+        dir.path().join("both.png").to_str().unwrap(),
+    ]));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("and 1 distance field"), "{err}");
+
+    // A missing file is an error at its name; a flattening transform at its factors.
+    let missing = write("missing.scn", "adf { file \"nowhere.adf\" }".to_string());
+    let o = dynray(&["render", missing.to_str().unwrap(), "-o", dir.path().join("x.png").to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("missing.scn:3") && err.contains("nowhere.adf"), "{err}");
+    let flat = write("flat.scn", "adf { file \"bunny.adf\" transform { scale <0, 0, 0> <1, 0, 1> } }".to_string());
+    let o = dynray(&["render", flat.to_str().unwrap(), "-o", dir.path().join("x.png").to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("flat.scn:3") && err.contains("contain a zero") && !err.contains("panicked"), "{err}");
+    assert!(!dir.path().join("x.png").exists());
+}

@@ -4,6 +4,7 @@
 //! timings, a preview, shards for array jobs and resumption (docs/animate.md).
 
 use super::animate_tracer::{GpuChoice, Tracer};
+use super::fields::Fields;
 use super::{preview, thousands, time};
 use crate::cli::AnimateArgs;
 use anyhow::{bail, Context, Result};
@@ -47,6 +48,10 @@ pub fn run(a: AnimateArgs) -> Result<()> {
     // Refused options and a missing GPU fail before anything is written.
     let options = RenderOptions { spp: a.spp, seed: a.seed, integrator: a.integrator, ..Default::default() };
     a.backend.check()?;
+    let fields = Fields::load(&scene.distance_fields, &label)?;
+    if !fields.is_empty() && a.backend.gpu_options().is_some() {
+        bail!("{label}: scenes with `adf` blocks render on the CPU only; drop --backend gpu");
+    }
     let mut tracer = match a.backend.gpu_options() {
         None => Tracer::cpu(&a.accel, a.update),
         Some(gpu) => {
@@ -91,7 +96,7 @@ pub fn run(a: AnimateArgs) -> Result<()> {
         let pose = t0.elapsed();
         let report = tracer.update(&frame).with_context(|| format!("{label}: frame {k}"))?;
         let t1 = Instant::now();
-        let (film, stats) = tracer.render(&frame, &options).with_context(|| format!("{label}: frame {k}"))?;
+        let (film, stats) = tracer.render(&frame, &fields, &options).with_context(|| format!("{label}: frame {k}"))?;
         let render_time = t1.elapsed();
         let to_image = t0.elapsed();
         write_image(&film, &frame_path(&a.out, k))?;

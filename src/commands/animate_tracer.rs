@@ -11,10 +11,11 @@
 //! last fresh build's, rebuilding past the bound (the read-back is part of the update's
 //! time).
 
+use super::fields::{render, Fields};
 use anyhow::{bail, Context, Result};
 use dynray_accel::{Accel, AccelKind, AccelSpec, Bvh, BvhParams, LiveAccel, UpdateAction, UpdatePolicy, UpdateReport};
 use dynray_gpu::{GpuBuild, GpuBvh, GpuContext, GpuOptions, GpuRenderOptions, GpuRenderer, GpuStrategy};
-use dynray_render::{render, Film, IntegratorKind, RenderOptions, RenderStats};
+use dynray_render::{Film, IntegratorKind, RenderOptions, RenderStats};
 use dynray_scene::Frame;
 use std::any::Any;
 use std::sync::Arc;
@@ -107,9 +108,13 @@ impl Tracer {
     }
 
     /// Renders `frame` through the structure [`Self::update`] prepared.
-    pub fn render(&mut self, frame: &Frame, options: &RenderOptions) -> Result<(Film, RenderStats)> {
+    /// The scene's distance fields (`fields`) are traced beside the triangles on the CPU;
+    /// the GPU tracer refuses a scene that has any ([`Tracer::gpu`]'s caller checks).
+    pub fn render(&mut self, frame: &Frame, fields: &Fields, options: &RenderOptions) -> Result<(Film, RenderStats)> {
         match self {
-            Tracer::Cpu { live, .. } => Ok(render(frame, live.as_ref().expect("updated first").accel(), options)),
+            Tracer::Cpu { live, .. } => {
+                Ok(render(frame, live.as_ref().expect("updated first").accel(), fields, options))
+            }
             Tracer::Gpu(g) => {
                 let o = GpuRenderOptions {
                     strategy: g.strategy,

@@ -4,6 +4,7 @@ mod adf;
 mod animate;
 mod animate_tracer;
 mod bench;
+mod fields;
 mod gpu_info;
 mod info;
 mod physics;

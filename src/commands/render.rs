@@ -1,16 +1,17 @@
 //! `dynray render`: scene, mesh or distance-field file (or the built-in demo) -> image.
 
+use super::fields::{render, render_aov, Fields};
 use super::thousands;
 use crate::cli::RenderArgs;
 use anyhow::{bail, Context, Result};
 use dynray_accel::{AccelKind, Bvh};
-use dynray_adf::{Adf, AdfGeometry};
+use dynray_adf::AdfGeometry;
 use dynray_gpu::{GpuBuild, GpuBvh, GpuContext, GpuOptions, GpuRenderOptions, GpuRenderer};
 use dynray_render::{
-    render, render_aov, render_with, write_aov, write_image, AovIntegrator, Geometry, IntegratorKind, IntegratorParams,
-    OutputFormat, RenderOptions, SceneIntersector,
+    render_with, write_aov, write_image, AovIntegrator, IntegratorKind, IntegratorParams, OutputFormat, RenderOptions,
+    SceneIntersector,
 };
-use dynray_scene::{Frame, Shading};
+use dynray_scene::{Camera, Frame, Shading};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::path::Path;
 use std::sync::Arc;
@@ -81,7 +82,31 @@ pub fn run(a: RenderArgs) -> Result<()> {
         }
         let options =
             RenderOptions { spp, seed: a.seed, integrator: a.integrator, params, passes, ..Default::default() };
-        return render_field(&a, &frame, &label, adf, &options);
+        let material = frame.materials.first().cloned().unwrap_or_default();
+        let scene = SceneIntersector::new(vec![Box::new(AdfGeometry::new(adf, material))]);
+        let what = format!(
+            "distance field of max level {} ({} internal cells)",
+            adf.max_level(),
+            thousands(adf.internal_cells() as usize)
+        );
+        return render_geometry(&a, &frame, &label, (&scene, what), &options);
+    }
+    let fields = Fields::load(&frame.distance_fields, &label)?;
+    if !fields.is_empty() {
+        if a.backend.gpu_options().is_some() {
+            bail!("{label}: scenes with `adf` blocks render on the CPU only; drop --backend gpu");
+        }
+        if scene.camera.is_none() {
+            // Only fields, no mesh: the default view frames them.
+            frame.camera = Camera::framing(&fields.bounds(&frame).union(&frame.mesh.bounds()));
+        }
+    }
+    if !fields.is_empty() && frame.mesh.triangle_count() == 0 {
+        // Nothing for a structure to hold: the fields are the whole scene.
+        let options =
+            RenderOptions { spp, seed: a.seed, integrator: a.integrator, params, passes, ..Default::default() };
+        let what = fields.describe(&frame).trim_start_matches(" and ").to_string();
+        return render_geometry(&a, &frame, &label, (&fields.fields_only(&frame), what), &options);
     }
     if let Some(gpu) = a.backend.gpu_options() {
         return render_on_gpu(&a, &frame, &label, (spp, passes, params), &gpu);
@@ -115,13 +140,14 @@ pub fn run(a: RenderArgs) -> Result<()> {
     };
     let t1 = Instant::now();
     if let Some(aov) = a.aov {
-        let film = render_aov(&frame, accel.as_ref(), aov, &options);
+        let film = render_aov(&frame, accel.as_ref(), &fields, aov, &options);
         let trace = t1.elapsed();
         bar.finish_and_clear();
         write_aov(&film, aov, &a.output)?;
         eprintln!(
-            "{label}: {} triangles, {} build {:.1} ms, {aov} AOV {:.1} ms ({}x{}) -> {}",
+            "{label}: {} triangles{}, {} build {:.1} ms, {aov} AOV {:.1} ms ({}x{}) -> {}",
             thousands(frame.mesh.triangle_count()),
+            fields.describe(&frame),
             accel.name(),
             build.as_secs_f64() * 1e3,
             trace.as_secs_f64() * 1e3,
@@ -131,7 +157,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         );
         return Ok(());
     }
-    let (film, stats) = render(&frame, accel.as_ref(), &options);
+    let (film, stats) = render(&frame, accel.as_ref(), &fields, &options);
     let trace = t1.elapsed();
     bar.finish_and_clear();
     write_image(&film, &a.output)?;
@@ -139,8 +165,9 @@ pub fn run(a: RenderArgs) -> Result<()> {
     let secs = trace.as_secs_f64().max(1e-9);
     let samples = if passes > 1 { format!("{spp} spp × {passes} passes") } else { format!("{spp} spp") };
     eprintln!(
-        "{label}: {} triangles, {} build {:.1} ms, {} render {:.1} ms ({}x{}, {samples}, {} rays, {:.2} Mrays/s) -> {}",
+        "{label}: {} triangles{}, {} build {:.1} ms, {} render {:.1} ms ({}x{}, {samples}, {} rays, {:.2} Mrays/s) -> {}",
         thousands(frame.mesh.triangle_count()),
+        fields.describe(&frame),
         accel.name(),
         build.as_secs_f64() * 1e3,
         a.integrator,
@@ -154,28 +181,30 @@ pub fn run(a: RenderArgs) -> Result<()> {
     Ok(())
 }
 
-/// A distance field (`.adf`) as the scene's one geometry, through the same render loop,
-/// integrators and AOVs as triangles, shaded with the default material.
-fn render_field(a: &RenderArgs, frame: &Frame, label: &str, adf: &Adf, options: &RenderOptions<'_>) -> Result<()> {
-    let material = frame.materials.first().cloned().unwrap_or_default();
-    let geometry: Vec<Box<dyn Geometry + '_>> = vec![Box::new(AdfGeometry::new(adf, material))];
-    let scene = SceneIntersector::new(geometry);
+/// Geometry other than the frame's triangles — an `.adf` file alone, or a `.scn` of
+/// `adf` blocks and no mesh — through the same render loop, integrators and AOVs;
+/// `what` describes it for the summary line.
+fn render_geometry(
+    a: &RenderArgs,
+    frame: &Frame,
+    label: &str,
+    (scene, what): (&SceneIntersector<'_>, String),
+    options: &RenderOptions<'_>,
+) -> Result<()> {
     let t0 = Instant::now();
-    let what = if let Some(aov) = a.aov {
+    let done = if let Some(aov) = a.aov {
         let one = RenderOptions { spp: 1, passes: 1, ..*options };
-        let film = render_with(frame, &AovIntegrator::new(aov, &scene), &one).0;
+        let film = render_with(frame, &AovIntegrator::new(aov, scene), &one).0;
         write_aov(&film, aov, &a.output)?;
         format!("{aov} AOV")
     } else {
-        let integrator = a.integrator.create(frame, &scene, &options.params);
+        let integrator = a.integrator.create(frame, scene, &options.params);
         let film = render_with(frame, integrator.as_ref(), options).0;
         write_image(&film, &a.output)?;
         format!("{} render", a.integrator)
     };
     eprintln!(
-        "{label}: distance field of max level {} ({} internal cells), {what} {:.1} ms ({}x{}) -> {}",
-        adf.max_level(),
-        thousands(adf.internal_cells() as usize),
+        "{label}: {what}, {done} {:.1} ms ({}x{}) -> {}",
         t0.elapsed().as_secs_f64() * 1e3,
         frame.settings.width,
         frame.settings.height,

@@ -1,5 +1,4 @@
-//! Sphere tracing of the reconstructed field, and the field as a geometry of the
-//! scene-level intersector (so every integrator and AOV shades it).
+//! Sphere tracing of the reconstructed field (`geometry.rs` puts it in a scene).
 //!
 //! A ray is clipped to the cube, then marched by `|d| / L` (a Lipschitz bound of the
 //! field, `crack.rs`: no surface lies nearer than that) — `L` the bound of the smallest
@@ -15,9 +14,7 @@
 
 use crate::crack::leaf_gradient_bound;
 use crate::{Adf, Located, Search};
-use dynray_geom::{Aabb, Hit, PreparedRay, Ray, Vec2, Vec3};
-use dynray_render::{Geometry, GeometryRef, SurfaceHit};
-use dynray_scene::{Color, Material};
+use dynray_geom::{PreparedRay, Ray, Vec3};
 
 /// Steps a ray may take through the cube before it counts as a miss.
 pub const MAX_MARCH_STEPS: u32 = 4096;
@@ -122,55 +119,5 @@ impl Adf {
             }
         }
         best
-    }
-}
-
-/// A distance field placed in a scene with one material (primitive 0, uv = 0).
-pub struct AdfGeometry<'a> {
-    adf: &'a Adf,
-    material: Material,
-}
-
-impl<'a> AdfGeometry<'a> {
-    /// The field `adf`, shaded with `material`.
-    pub fn new(adf: &'a Adf, material: Material) -> Self {
-        Self { adf, material }
-    }
-}
-
-impl Geometry for AdfGeometry<'_> {
-    fn intersect(&self, ray: &Ray) -> Hit {
-        self.adf.march(ray).map_or(Hit::MISS, |t| Hit { t, u: 0.0, v: 0.0, prim: 0 })
-    }
-
-    fn occluded(&self, ray: &Ray) -> bool {
-        self.adf.march(ray).is_some()
-    }
-
-    fn surface<'a>(&'a self, ray: &Ray, hit: &Hit, geometry: u32) -> Option<SurfaceHit<'a>> {
-        if !hit.is_hit() {
-            return None;
-        }
-        let p = ray.at(hit.t);
-        let mut hint = 0;
-        let mut n = self.adf.gradient(p, &mut hint).normalize_or_zero();
-        if n == Vec3::ZERO || !n.is_finite() {
-            // A flat spot of the field (a saddle of the samples): face the ray.
-            n = -ray.dir.normalize_or_zero();
-        }
-        Some(SurfaceHit {
-            t: hit.t,
-            p,
-            ng: n,
-            ns: n,
-            uv: Vec2::ZERO,
-            material: &self.material,
-            texel: Color::ONE,
-            at: GeometryRef { geometry, instance: 0, prim: 0 },
-        })
-    }
-
-    fn bounds(&self) -> Aabb {
-        self.adf.cube.bounds()
     }
 }

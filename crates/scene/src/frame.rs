@@ -8,7 +8,7 @@
 //! actor's [`crate::Actor::deform`] poses its vertices (keys, morphs, skin) — never
 //! changing its triangle count or order.
 
-use crate::{Camera, Environment, Light, Material, Projection, Scene, Settings, Texture, Transform};
+use crate::{Camera, Environment, FieldPlacement, Light, Material, Projection, Scene, Settings, Texture, Transform};
 use dynray_geom::{TriangleMesh, Vec3};
 use std::ops::Range;
 use std::sync::Arc;
@@ -43,6 +43,9 @@ pub struct Frame {
     /// `actor_ranges`: where a simulation (`dynray-sim`) writes an actor's deformed
     /// vertices.
     pub vertex_ranges: Vec<Range<u32>>,
+    /// The scene's distance fields ([`Scene::distance_fields`]): not in `mesh`; whoever
+    /// renders the frame loads them and intersects them beside it.
+    pub distance_fields: Vec<FieldPlacement>,
     /// The time this frame was filled for, in seconds.
     pub time: f32,
 }
@@ -68,6 +71,7 @@ impl Default for Frame {
             environment: Environment::default(),
             actor_ranges: Vec::new(),
             vertex_ranges: Vec::new(),
+            distance_fields: Vec::new(),
             time: 0.0,
         }
     }
@@ -207,6 +211,7 @@ impl Scene {
         }
         frame.settings = self.settings;
         frame.environment = self.environment;
+        frame.distance_fields.clone_from(&self.distance_fields);
         frame.time = t;
     }
 }

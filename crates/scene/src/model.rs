@@ -304,6 +304,9 @@ pub struct Scene {
     /// The `physics { … }` block, if the file has one; actors with
     /// [`crate::Actor::elastic`] use the defaults without it (docs/physics.md).
     pub physics: Option<crate::PhysicsSettings>,
+    /// Distance fields placed beside the actors (`.scn` `adf { … }`); static: every
+    /// frame has them where the scene puts them.
+    pub distance_fields: Vec<crate::FieldPlacement>,
 }
 
 impl Scene {

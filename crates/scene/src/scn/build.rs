@@ -169,6 +169,29 @@ pub(crate) fn build(mut st: State, warnings: &mut Vec<Warning>) -> Result<Scene,
         }
         scene.actors.push(actor);
     }
+    for field in std::mem::take(&mut st.fields) {
+        let material = match &field.material {
+            Some(mat) => *index_of.entry(Rc::as_ptr(mat)).or_insert_with(|| {
+                scene.materials.push((**mat).clone());
+                scene.materials.len() as u32 - 1
+            }),
+            None => *default_index.get_or_insert_with(|| {
+                scene.materials.push(Material::default());
+                scene.materials.len() as u32 - 1
+            }),
+        };
+        let m = field.transform;
+        // The field is marched in its own space, so the map to it must exist.
+        if !m.is_finite() || m.determinant() == 0.0 || !m.as_mat4().inverse().is_finite() {
+            return Err(Diag::new(field.at.0, field.at.1, "this distance field's transform cannot be inverted")
+                .label("placed here")
+                .note(
+                    "a scale of zero (or a non-finite value) flattens the field; rays are marched in its own space",
+                ));
+        }
+        let transform = if m == DMat4::IDENTITY { Transform::IDENTITY } else { Transform::new(m.as_mat4()) };
+        scene.distance_fields.push(crate::FieldPlacement { file: field.file, transform, material });
+    }
     animate_lights_and_camera(&mut scene, &st, &mut channels, axis)?;
     place_animated(&mut scene, channels, &animated)?;
     // Built here, so never expected to fail; a failure is reported rather than trusted.

@@ -13,6 +13,7 @@ mod blocks;
 mod build;
 mod diag;
 mod expr;
+mod field;
 mod lexer;
 mod mesh_file;
 mod objects;

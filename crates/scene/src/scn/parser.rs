@@ -34,6 +34,7 @@ pub(crate) const KEYWORDS: &[&str] = &[
     "environment",
     "settings",
     "physics",
+    "adf",
     "material",
     "transform",
     "define",
@@ -100,6 +101,8 @@ pub(crate) struct State {
     pub sources: Sources,
     pub defs: HashMap<String, Binding>,
     pub actors: Vec<ActorEntry>,
+    /// The `adf` statements, in order.
+    pub fields: Vec<super::field::FieldEntry>,
     pub lights: Vec<Light>,
     /// The camera and where it was set (a second `camera` statement is an error).
     pub camera: Option<(Camera, FileId, Span)>,
@@ -348,6 +351,10 @@ impl<'s> Parser<'s> {
                 self.once("physics", span.clone(), |st| &mut st.physics)?;
                 self.st.physics = Some((s, self.file, span));
             }
+            "adf" => {
+                let field = self.distance_field()?;
+                self.st.fields.push(field);
+            }
             "define" => self.define()?,
             "include" => self.include()?,
             "material" | "transform" => {
@@ -365,7 +372,7 @@ impl<'s> Parser<'s> {
 
     fn statement_expected(&self) -> Diag {
         let d = self.expected(
-            "a statement (mesh, box, sphere, object, light, camera, environment, settings, physics, define, include)",
+            "a statement (mesh, box, sphere, object, adf, light, camera, environment, settings, physics, define, include)",
         );
         match self.peek() {
             Tok::Name(n) => match did_you_mean(n, KEYWORDS.iter().copied()) {
