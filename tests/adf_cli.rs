@@ -39,19 +39,12 @@ fn the_bunny_field_covers_the_bunny_mesh_and_reports_its_tables() {
 
     let want = depth_of(&mesh, &dir.path().join("mesh.exr"));
     let got = depth_of(&adf, &dir.path().join("adf.exr"));
-    let (mut both, mut either) = (0, 0);
-    for (a, b) in want.iter().zip(&got) {
-        let (a, b) = (a.is_finite(), b.is_finite());
-        both += (a && b) as usize;
-        either += (a || b) as usize;
-    }
-    let iou = both as f64 / either.max(1) as f64;
-    eprintln!("bunny depth coverage: {both} of {either} pixels, IoU {iou:.4}");
+    let (iou, either) = coverage_iou(&want, &got);
+    eprintln!("bunny depth coverage: IoU {iou:.4} over {either} pixels");
     assert!(either > W * H / 10, "the bunny fills too little of the view: {either} pixels");
     assert!(iou >= 0.98, "coverage IoU {iou:.4} < 0.98");
     // Where both hit, the depths agree to a few finest cells.
-    let worst = want.iter().zip(&got).filter(|(a, b)| a.is_finite() && b.is_finite()).map(|(a, b)| (a - b).abs());
-    let worst = worst.fold(0.0f32, f32::max);
+    let worst = worst_depth_difference(&want, &got);
     assert!(worst < 0.02, "depths differ by {worst}");
 
     let info = ok(dynray(&["info", adf.to_str().unwrap()]));
@@ -119,6 +112,11 @@ fn damaged_files_and_impossible_builds_are_clear_errors() {
     );
 }
 
+/// Largest depth difference where both depth AOVs hit.
+fn worst_depth_difference(a: &[f32], b: &[f32]) -> f32 {
+    a.iter().zip(b).filter(|(a, b)| a.is_finite() && b.is_finite()).map(|(a, b)| (a - b).abs()).fold(0.0, f32::max)
+}
+
 /// Coverage IoU of two depth AOVs (finite depth = a hit).
 fn coverage_iou(a: &[f32], b: &[f32]) -> (f64, usize) {
     let (mut both, mut either) = (0, 0);
@@ -153,8 +151,7 @@ fn a_scene_places_fields_beside_meshes_with_their_transforms() {
     eprintln!("placed field against placed mesh: IoU {iou:.4} over {either} pixels");
     assert!(either > W * H / 10, "too little in view: {either} pixels");
     assert!(iou >= 0.97, "coverage IoU {iou:.4} < 0.97");
-    let worst = want.iter().zip(&got).filter(|(a, b)| a.is_finite() && b.is_finite()).map(|(a, b)| (a - b).abs());
-    let worst = worst.fold(0.0f32, f32::max);
+    let worst = worst_depth_difference(&want, &got);
     assert!(worst < 0.03, "depths differ by {worst}");
 
     // Both in one scene: the nearer wins per pixel, so the depth is the minimum of both.

@@ -57,8 +57,7 @@ pub(crate) fn build(mut st: State, warnings: &mut Vec<Warning>) -> Result<Scene,
     // rig is complete.
     let mut animated = Vec::new();
     let mut explicit = Vec::new();
-    let mut index_of: HashMap<*const Material, u32> = HashMap::new();
-    let mut default_index = None;
+    let mut table = MaterialTable::default();
     for entry in std::mem::take(&mut st.actors) {
         let first_light = scene.lights.len();
         scene.lights.extend_from_slice(&entry.object.lights);
@@ -83,16 +82,7 @@ pub(crate) fn build(mut st: State, warnings: &mut Vec<Warning>) -> Result<Scene,
             if !shared && part.transform != DMat4::IDENTITY {
                 m.transform(&part.transform.as_mat4());
             }
-            let id = match &part.material {
-                Some(mat) => *index_of.entry(Rc::as_ptr(mat)).or_insert_with(|| {
-                    scene.materials.push((**mat).clone());
-                    scene.materials.len() as u32 - 1
-                }),
-                None => *default_index.get_or_insert_with(|| {
-                    scene.materials.push(Material::default());
-                    scene.materials.len() as u32 - 1
-                }),
-            };
+            let id = table.index(&mut scene.materials, part.material.as_ref());
             parts.push((m, id));
         }
         // Parts of one object keep their vertex normals only if all have them (a mesh
@@ -170,16 +160,7 @@ pub(crate) fn build(mut st: State, warnings: &mut Vec<Warning>) -> Result<Scene,
         scene.actors.push(actor);
     }
     for field in std::mem::take(&mut st.fields) {
-        let material = match &field.material {
-            Some(mat) => *index_of.entry(Rc::as_ptr(mat)).or_insert_with(|| {
-                scene.materials.push((**mat).clone());
-                scene.materials.len() as u32 - 1
-            }),
-            None => *default_index.get_or_insert_with(|| {
-                scene.materials.push(Material::default());
-                scene.materials.len() as u32 - 1
-            }),
-        };
+        let material = table.index(&mut scene.materials, field.material.as_ref());
         let m = field.transform;
         // The field is marched in its own space, so the map to it must exist.
         if !m.is_finite() || m.determinant() == 0.0 || !m.as_mat4().inverse().is_finite() {
@@ -205,6 +186,28 @@ pub(crate) fn build(mut st: State, warnings: &mut Vec<Warning>) -> Result<Scene,
     }
     super::textures::resolve(&mut scene, textures, warnings);
     Ok(scene)
+}
+
+/// The scene's materials as parts and fields name them: each parsed material once
+/// (shared `Rc`s are one material), and one default material for whatever names none.
+#[derive(Default)]
+struct MaterialTable {
+    index_of: HashMap<*const Material, u32>,
+    default_index: Option<u32>,
+}
+
+impl MaterialTable {
+    /// The index in `materials` of `m` (`None`: the default), added on first use.
+    fn index(&mut self, materials: &mut Vec<Material>, m: Option<&Rc<Material>>) -> u32 {
+        let mut push = |m: Material| {
+            materials.push(m);
+            materials.len() as u32 - 1
+        };
+        match m {
+            Some(mat) => *self.index_of.entry(Rc::as_ptr(mat)).or_insert_with(|| push((**mat).clone())),
+            None => *self.default_index.get_or_insert_with(|| push(Material::default())),
+        }
+    }
 }
 
 /// Nodes for the animated lights (`animation.light_nodes`) and the animated camera
