@@ -5,7 +5,7 @@
 mod support;
 
 use std::path::Path;
-use support::{dynray, ok, scenes_dir};
+use support::{dynray, gpu_present, ok, scenes_dir};
 
 const W: usize = 96;
 const H: usize = 72;
@@ -20,10 +20,19 @@ fn read_depth(path: &Path) -> Vec<f32> {
 }
 
 fn depth_of(file: &Path, out: &Path) -> Vec<f32> {
+    aov_of(file, "depth", &[], out)
+}
+
+/// Every channel of the AOV `aov` of `file` rendered with `extra` flags.
+fn aov_of(file: &Path, aov: &str, extra: &[&str], out: &Path) -> Vec<f32> {
     let (w, h) = (W.to_string(), H.to_string());
-    let args = ["render", file.to_str().unwrap(), "--aov", "depth", "-o", out.to_str().unwrap()];
-    ok(dynray(&[&args[..], &["--width", &w, "--height", &h]].concat()));
-    read_depth(out)
+    let args = ["render", file.to_str().unwrap(), "--aov", aov, "-o", out.to_str().unwrap()];
+    ok(dynray(&[&args[..], &["--width", &w, "--height", &h], extra].concat()));
+    if aov == "depth" {
+        return read_depth(out);
+    }
+    let image = exr::prelude::read_all_flat_layers_from_file(out).unwrap();
+    image.layer_data[0].channel_data.list.iter().flat_map(|c| c.sample_data.values_as_f32()).collect()
 }
 
 #[test]
@@ -51,6 +60,22 @@ fn the_bunny_field_covers_the_bunny_mesh_and_reports_its_tables() {
     let text = String::from_utf8_lossy(&info.stdout);
     for line in ["internal", "cell table  H", "offsets     Φ", "classic ADF voxels", "full grid", "hash "] {
         assert!(text.contains(line), "no `{line}` in:\n{text}");
+    }
+    if gpu_present() {
+        // The device's sphere tracer sees what the CPU's sees (docs/adf.md, "On the GPU").
+        let gpu = ["--backend", "gpu"];
+        let on_gpu = aov_of(&adf, "depth", &gpu, &dir.path().join("adf-gpu.exr"));
+        let (iou, _) = coverage_iou(&got, &on_gpu);
+        let worst = worst_depth_difference(&got, &on_gpu);
+        eprintln!("bunny field, GPU against CPU depth: IoU {iou:.5}, worst difference {worst:e}");
+        assert!(iou >= 0.999 && worst < 1e-4, "GPU depth: IoU {iou}, worst {worst}");
+        let n_cpu = aov_of(&adf, "normal", &[], &dir.path().join("n-cpu.exr"));
+        let n_gpu = aov_of(&adf, "normal", &gpu, &dir.path().join("n-gpu.exr"));
+        let worst_n = n_cpu.iter().zip(&n_gpu).map(|(a, b)| (a - b).abs()).fold(0.0, f32::max);
+        assert!(worst_n < 1e-3, "GPU normals differ by {worst_n}");
+        let shaded = dynray(&["render", adf.to_str().unwrap(), "--backend", "gpu", "-o", "never.png"]);
+        let err = String::from_utf8_lossy(&shaded.stderr);
+        assert!(!shaded.status.success() && err.contains("--aov") && !Path::new("never.png").exists(), "{err}");
     }
     // Whitted renders it too (lit by the mesh's default light).
     let png = dir.path().join("bunny.png");

@@ -4,6 +4,7 @@ mod adf;
 mod animate;
 mod animate_tracer;
 mod bench;
+mod field_on_gpu;
 mod fields;
 mod gpu_info;
 mod info;

@@ -77,12 +77,12 @@ pub fn run(a: RenderArgs) -> Result<()> {
 
     a.backend.check()?;
     if let Some(adf) = &field {
-        if a.backend.gpu_options().is_some() {
-            bail!("{label}: distance fields are rendered on the CPU only for now; drop --backend gpu");
-        }
         let options =
             RenderOptions { spp, seed: a.seed, integrator: a.integrator, params, passes, ..Default::default() };
         let material = frame.materials.first().cloned().unwrap_or_default();
+        if let Some(gpu) = a.backend.gpu_options() {
+            return render_field_on_gpu(&a, &frame, &label, adf, material, &gpu);
+        }
         let scene = SceneIntersector::new(vec![Box::new(AdfGeometry::new(adf, material))]);
         let what = format!(
             "distance field of max level {} ({} internal cells)",
@@ -208,6 +208,46 @@ fn render_geometry(
         t0.elapsed().as_secs_f64() * 1e3,
         frame.settings.width,
         frame.settings.height,
+        a.output.display()
+    );
+    Ok(())
+}
+
+/// `render FILE.adf --backend gpu --aov A`: the field uploaded, the camera rays marched
+/// on the device (field_on_gpu.rs), through the same render loop as on the CPU.
+fn render_field_on_gpu(
+    a: &RenderArgs,
+    frame: &Frame,
+    label: &str,
+    adf: &dynray_adf::Adf,
+    material: dynray_scene::Material,
+    gpu: &GpuOptions,
+) -> Result<()> {
+    let Some(aov) = a.aov else {
+        bail!(
+            "{label}: on the GPU a distance field renders its AOVs (--aov depth, normal, prim or albedo); \
+             shaded images of fields render on the CPU (drop --backend gpu)"
+        );
+    };
+    let t0 = Instant::now();
+    let ctx = Arc::new(GpuContext::new(gpu)?);
+    let device = dynray_gpu::GpuAdf::upload(ctx.clone(), adf).with_context(|| format!("{label}: cannot upload"))?;
+    let upload = t0.elapsed();
+    let integrator =
+        super::field_on_gpu::DeviceFieldAov { aov, device: &device, geometry: AdfGeometry::new(adf, material) };
+    let t1 = Instant::now();
+    let one = RenderOptions { spp: 1, passes: 1, seed: a.seed, ..Default::default() };
+    let film = render_with(frame, &integrator, &one).0;
+    let trace = t1.elapsed();
+    write_aov(&film, aov, &a.output)?;
+    eprintln!(
+        "{label}: distance field of max level {} on {}, upload {:.1} ms, {aov} AOV {:.1} ms ({}x{}) -> {}",
+        adf.max_level(),
+        ctx.adapter().name,
+        upload.as_secs_f64() * 1e3,
+        trace.as_secs_f64() * 1e3,
+        film.width(),
+        film.height(),
         a.output.display()
     );
     Ok(())

@@ -52,6 +52,16 @@ impl VoxelTexture {
         self.dims.map(|d| 3 * d)
     }
 
+    /// Block slots per axis (block `i` sits at slot `(i mod bx, (i / bx) mod by, i / (bx · by))`).
+    pub fn block_dims(&self) -> [u32; 3] {
+        self.dims
+    }
+
+    /// Every texel, x fastest (what a device uploads).
+    pub fn texels(&self) -> &[f32] {
+        &self.texels
+    }
+
     /// Number of block slots.
     pub fn slots(&self) -> usize {
         self.dims.iter().map(|&d| d as usize).product()

@@ -33,6 +33,30 @@ impl<'a> AdfGeometry<'a> {
         Self { adf, material, placement: Some((to_world, to_field, to_field.transpose())) }
     }
 
+    /// The surface where `ray` (world space) meets the field at `t`, the field's gradient
+    /// there being `g` (field space: the CPU's [`Adf::gradient`] or the device's).
+    pub fn surface_at(&self, ray: &Ray, t: f32, g: Vec3, geometry: u32) -> SurfaceHit<'_> {
+        let g = match &self.placement {
+            None => g,
+            Some((_, _, normal_to_world)) => normal_to_world.transform_vector3(g),
+        };
+        let mut n = g.normalize_or_zero();
+        if n == Vec3::ZERO || !n.is_finite() {
+            // A flat spot of the field (a saddle of the samples): face the ray.
+            n = -ray.dir.normalize_or_zero();
+        }
+        SurfaceHit {
+            t,
+            p: ray.at(t),
+            ng: n,
+            ns: n,
+            uv: Vec2::ZERO,
+            material: &self.material,
+            texel: Color::ONE,
+            at: GeometryRef { geometry, instance: 0, prim: 0 },
+        }
+    }
+
     /// `ray` in the field's space (same `t` interval).
     fn local(&self, ray: &Ray) -> Ray {
         match &self.placement {
@@ -59,26 +83,7 @@ impl Geometry for AdfGeometry<'_> {
         }
         let local = self.local(ray);
         let mut hint = 0;
-        let g = self.adf.gradient(local.at(hit.t), &mut hint);
-        let g = match &self.placement {
-            None => g,
-            Some((_, _, normal_to_world)) => normal_to_world.transform_vector3(g),
-        };
-        let mut n = g.normalize_or_zero();
-        if n == Vec3::ZERO || !n.is_finite() {
-            // A flat spot of the field (a saddle of the samples): face the ray.
-            n = -ray.dir.normalize_or_zero();
-        }
-        Some(SurfaceHit {
-            t: hit.t,
-            p: ray.at(hit.t),
-            ng: n,
-            ns: n,
-            uv: Vec2::ZERO,
-            material: &self.material,
-            texel: Color::ONE,
-            at: GeometryRef { geometry, instance: 0, prim: 0 },
-        })
+        Some(self.surface_at(ray, hit.t, self.adf.gradient(local.at(hit.t), &mut hint), geometry))
     }
 
     fn bounds(&self) -> Aabb {

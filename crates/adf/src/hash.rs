@@ -101,6 +101,16 @@ impl PerfectHash {
         self.r
     }
 
+    /// Φ, `r̄³` entries, x fastest (what a device uploads).
+    pub fn offsets(&self) -> &[PhiEntry] {
+        &self.phi
+    }
+
+    /// H, `m̄³` entries, x fastest (what a device uploads).
+    pub fn entries(&self) -> &[CellEntry] {
+        &self.table
+    }
+
     /// Attempts generation took.
     pub fn attempts(&self) -> u32 {
         self.attempts

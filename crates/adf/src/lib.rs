@@ -50,7 +50,7 @@ pub use hash::{key_id, key_of_id, CellEntry, HashVariant, PerfectHash, PhiEntry}
 pub use locate::{Located, Search};
 pub use sign::{MeshSource, Topology, SIGN_RAYS};
 pub use stats::MemoryFigures;
-pub use trace::MAX_MARCH_STEPS;
+pub use trace::{MarchStats, MAX_MARCH_STEPS};
 
 use dynray_geom::{Aabb, TriangleMesh, Vec3};
 use std::time::Instant;

@@ -37,7 +37,7 @@ impl Adf {
     /// The point's integer coordinates at the finest resolution, `⌊2^L p⌋` for `p` in the
     /// unit cube (clamped into `[0, 2^L)`, so `p = 1` stays in the last cell).
     #[inline]
-    pub(crate) fn fine_coords(&self, u: Vec3) -> [u32; 3] {
+    pub fn fine_coords(&self, u: Vec3) -> [u32; 3] {
         let n = (1u32 << self.max_level) as f32;
         let top = (1u32 << self.max_level) - 1;
         u.to_array().map(|c| ((c * n).max(0.0) as u32).min(top))

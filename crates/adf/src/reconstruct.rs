@@ -11,7 +11,7 @@ use dynray_geom::Vec3;
 impl Adf {
     /// The point's unit-cube coordinates.
     #[inline]
-    pub(crate) fn unit(&self, p: Vec3) -> Vec3 {
+    pub fn unit(&self, p: Vec3) -> Vec3 {
         (p - self.cube.origin) / self.cube.size
     }
 

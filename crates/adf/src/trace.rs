@@ -23,28 +23,52 @@ const MIN_STEP: f32 = 0.1;
 /// Bisection steps refining a crossing (each halves the interval).
 const REFINE_STEPS: u32 = 24;
 
+/// What one march found and what it cost.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MarchStats {
+    /// `t` of the first crossing, `None` for a miss.
+    pub t: Option<f32>,
+    /// Field samples taken (steps and bisection).
+    pub samples: u32,
+    /// Hash probes point location made for those samples (the level search's cost).
+    pub probes: u32,
+}
+
 impl Adf {
     /// The first crossing of the surface along `ray` within `[tmin, tmax]`: its `t`.
     pub fn march(&self, ray: &Ray) -> Option<f32> {
-        self.march_counted(ray).0
+        self.march_with(ray, Search::CoherentLinear).t
     }
 
     /// [`Adf::march`] and the field samples it took.
     pub fn march_counted(&self, ray: &Ray) -> (Option<f32>, u32) {
+        let s = self.march_with(ray, Search::CoherentLinear);
+        (s.t, s.samples)
+    }
+
+    /// [`Adf::march`] locating every sample with `search` (all three find the same cells,
+    /// so the answer is the same; the probes are not).
+    pub fn march_with(&self, ray: &Ray, search: Search) -> MarchStats {
+        let mut stats = MarchStats { t: None, samples: 0, probes: 0 };
         let Some((t0, t1)) = self.cube.bounds().clip(&PreparedRay::new(ray), ray.tmin, ray.tmax) else {
-            return (None, 0);
+            return stats;
         };
         let dl = ray.dir.length();
         if !(dl > 0.0 && dl.is_finite()) {
-            return (None, 0);
+            return stats;
         }
         let finest = self.cube.size / (1u32 << self.max_level) as f32;
         let min_step = MIN_STEP * finest / dl;
         let du = ray.dir / self.cube.size;
         let mut hint = 0;
-        let mut samples = 1;
+        let sample = |t: f32, hint: &mut u32, stats: &mut MarchStats| {
+            let s = self.sample_unit(self.unit(ray.at(t)), search, hint);
+            stats.samples += 1;
+            stats.probes += s.1.probes;
+            s
+        };
         let mut t = t0.max(ray.tmin);
-        let (mut d, mut cell, mut q) = self.sample_unit(self.unit(ray.at(t)), Search::CoherentLinear, &mut hint);
+        let (mut d, mut cell, mut q) = sample(t, &mut hint, &mut stats);
         // The side the ray is on: by the field, or for a start on the surface by where it
         // heads (away from it along the gradient: outside).
         let outside = if d.abs() > 1e-3 * finest {
@@ -58,27 +82,26 @@ impl Adf {
             let u = self.unit(ray.at(t));
             let step = self.safe_step(u, du, d.abs() / dl, cell, q).max(min_step);
             let tn = (t + step).min(t1);
-            let (dn, cn, qn) = self.sample_unit(self.unit(ray.at(tn)), Search::CoherentLinear, &mut hint);
-            samples += 1;
+            let (dn, cn, qn) = sample(tn, &mut hint, &mut stats);
             if crossed(dn) {
                 let (mut lo, mut hi) = (t, tn);
                 for _ in 0..REFINE_STEPS {
                     let mid = 0.5 * (lo + hi);
-                    samples += 1;
-                    if crossed(self.distance_unit(self.unit(ray.at(mid)), Search::CoherentLinear, &mut hint)) {
+                    if crossed(sample(mid, &mut hint, &mut stats).0) {
                         hi = mid;
                     } else {
                         lo = mid;
                     }
                 }
-                return (Some(hi), samples);
+                stats.t = Some(hi);
+                return stats;
             }
             if tn >= t1 {
-                return (None, samples);
+                return stats;
             }
             (t, d, cell, q) = (tn, dn, cn, qn);
         }
-        (None, samples)
+        stats
     }
 
     /// How far (in ray parameter) a ray at unit point `u`, moving `du` per unit of `t`,

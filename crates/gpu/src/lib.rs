@@ -8,11 +8,15 @@
 //!   [`GpuBvh::build`] builds it on the device ([`GpuBuild`]: seed 003's binned SAH or an
 //!   LBVH) and [`GpuBvh::refit`] refits it there to a new pose of its mesh.
 //!
+//! - [`GpuAdf`] is seed 001's distance field on the device (`shaders/adf.wgsl`): point
+//!   location through the perfect hash and sphere tracing, the CPU's code ported.
+//!
 //! Exactness: where the adapter has `SHADER_F64`, the kernels run the engine's f64
 //! watertight test in the CPU's operation order, and [`GpuContext::exactness`] checks at
 //! start-up that the device rounds as the CPU does; hits then equal brute force's bit for
 //! bit. Without f64 the kernels run the same test in f32 ([`Precision::F32`]).
 
+mod adf;
 mod backend;
 mod buffer;
 mod build;
@@ -23,6 +27,7 @@ mod kernel;
 mod render;
 mod shader;
 
+pub use adf::{GpuAdf, GpuMarch};
 pub use backend::Backend;
 pub use build::{BuildTimings, GpuBuild};
 pub use bvh::GpuBvh;

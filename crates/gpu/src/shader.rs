@@ -30,6 +30,9 @@ pub(crate) const MEGAKERNEL: &str = include_str!("../shaders/megakernel.wgsl");
 /// The hybrid strategy's two kernels (it runs megakernel.wgsl's loop).
 pub(crate) const HYBRID: &str = include_str!("../shaders/hybrid.wgsl");
 
+/// Seed 001's distance field: point location, reconstruction, sphere tracing.
+pub(crate) const ADF: &str = include_str!("../shaders/adf.wgsl");
+
 /// The render kernels' module: every strategy's entry points over one set of bindings,
 /// with `ray_stack` entries of the megakernel's private ray stack.
 pub(crate) fn render_module(precision: Precision, stack: u32, ray_stack: u32) -> String {
@@ -122,6 +125,11 @@ mod tests {
                 .validate(&module)
                 .unwrap_or_else(|e| panic!("render {p:?}: {e:?}"));
         }
+        let src = assemble(Precision::F32, 1, &[ADF]);
+        let module = naga::front::wgsl::parse_str(&src).unwrap_or_else(|e| panic!("{}", e.emit_to_string(&src)));
+        naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all())
+            .validate(&module)
+            .unwrap_or_else(|e| panic!("adf: {e:?}"));
         assert_eq!(stack_for(18), Some(32));
         assert_eq!(stack_for(32), Some(64));
         assert_eq!(stack_for(200), None);

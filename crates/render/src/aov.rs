@@ -5,7 +5,7 @@
 //! filtering): averaging triangle indices or depths across an edge would give values
 //! that belong to no surface.
 
-use crate::{Integrator, RayCounts, Sampler, SceneIntersector};
+use crate::{Integrator, RayCounts, Sampler, SceneIntersector, SurfaceHit};
 use dynray_geom::Ray;
 use dynray_scene::Color;
 
@@ -54,6 +54,21 @@ impl Aov {
     }
 }
 
+impl Aov {
+    /// The AOV's value for a ray whose closest surface is `hit` (`None`: it escapes).
+    pub fn of(self, hit: Option<&SurfaceHit<'_>>) -> Color {
+        match (self, hit) {
+            (Aov::Depth, Some(h)) => Color::splat(h.t),
+            (Aov::Depth, None) => Color::splat(f32::INFINITY),
+            (Aov::Prim, Some(h)) => Color::splat(h.at.prim as f32),
+            (Aov::Prim, None) => Color::splat(-1.0),
+            (Aov::Normal, Some(h)) => h.ns,
+            (Aov::Albedo, Some(h)) => h.diffuse(),
+            (Aov::Normal | Aov::Albedo, None) => Color::ZERO,
+        }
+    }
+}
+
 impl std::str::FromStr for Aov {
     type Err = String;
 
@@ -91,15 +106,6 @@ impl Integrator for AovIntegrator<'_> {
     }
 
     fn radiance(&self, ray: &Ray, _sampler: &mut Sampler, _counts: &mut RayCounts) -> Color {
-        let hit = self.scene.intersect(ray);
-        match (self.aov, hit) {
-            (Aov::Depth, Some(h)) => Color::splat(h.t),
-            (Aov::Depth, None) => Color::splat(f32::INFINITY),
-            (Aov::Prim, Some(h)) => Color::splat(h.at.prim as f32),
-            (Aov::Prim, None) => Color::splat(-1.0),
-            (Aov::Normal, Some(h)) => h.ns,
-            (Aov::Albedo, Some(h)) => h.diffuse(),
-            (Aov::Normal | Aov::Albedo, None) => Color::ZERO,
-        }
+        self.aov.of(self.scene.intersect(ray).as_ref())
     }
 }
