@@ -107,3 +107,29 @@ fn seed003_gains_the_gpu_tables() {
         assert!(!b["stages"].as_array().unwrap().is_empty(), "{b}");
     }
 }
+
+#[test]
+fn seed001_measures_the_field_on_the_device_with_the_cpus_answers() {
+    if !gpu_present() {
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let r = bench(tmp.path(), &["--preset", "seed001"]);
+    let s = &r["seed001"];
+    assert_eq!(s["gpu_adapter"], r["gpu"]["adapter"]);
+    for f in s["runs"].as_array().unwrap() {
+        let (cpu, gpu) = (f["locate_cpu"].as_array().unwrap(), f["locate_gpu"].as_array().unwrap());
+        assert_eq!(gpu.len(), 3, "{f}");
+        for (c, g) in cpu.iter().zip(gpu) {
+            // Point location is integer work: the same points cost the same probes.
+            assert_eq!(c["search"], g["search"]);
+            assert_eq!(c["probes_per_lookup"], g["probes_per_lookup"], "{c} / {g}");
+            assert!(num(&g["ms"]) > 0.0, "{g}");
+        }
+        let march = f["march_gpu"].as_array().unwrap();
+        assert!(march.len() == 3 && march.iter().all(|m| num(&m["mega_per_s"]) > 0.0), "{f}");
+        let rays = (s["width"].as_u64().unwrap() * s["height"].as_u64().unwrap()) as f64;
+        let differ = f["gpu_differences"].as_u64().expect("compared with the CPU") as f64;
+        assert!(differ <= 1e-3 * rays, "{differ} of {rays} device answers differ from the CPU's");
+    }
+}

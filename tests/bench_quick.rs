@@ -9,7 +9,7 @@ use serde_json::Value;
 use std::path::Path;
 use std::process::Command;
 
-const PRESETS: [&str; 7] = ["standard", "seed000", "seed002", "seed003", "seed004", "dynamic", "path"];
+const PRESETS: [&str; 8] = ["standard", "seed000", "seed001", "seed002", "seed003", "seed004", "dynamic", "path"];
 
 /// Problems found in a report; empty when it is complete and consistent.
 fn check_report(r: &Value) -> Vec<String> {
@@ -30,6 +30,7 @@ fn check_report(r: &Value) -> Vec<String> {
 
     let scenes = r["scenes"].as_array().cloned().unwrap_or_default();
     need(&mut p, !scenes.is_empty(), "standard: no scene".into());
+    check_seed001(&r["seed001"], &mut p);
     for sc in &scenes {
         check_scene(sc, &rays, repeat, true, &mut p);
         let n = sc["structures"].as_array().map_or(0, Vec::len);
@@ -172,6 +173,43 @@ fn check_report(r: &Value) -> Vec<String> {
         _ => p.push("dynamic: missing or empty".into()),
     }
     p
+}
+
+/// `--preset seed001`: every field's tables, memory, three searches on each measurement
+/// with the same answers' costs consistent (probes per lookup ≥ 1 on the march, binary
+/// never above linear on random points), positive speeds and finite errors.
+fn check_seed001(s: &Value, p: &mut Vec<String>) {
+    let Some(runs) = s["runs"].as_array().filter(|v| !v.is_empty()) else {
+        p.push("seed001: missing or empty".into());
+        return;
+    };
+    for f in runs {
+        let what = format!("seed001 {} level {}", f["scene"], f["max_level"]);
+        let bytes: Vec<u64> = f["bytes"].as_array().into_iter().flatten().filter_map(Value::as_u64).collect();
+        need(
+            p,
+            bytes.len() == 5 && bytes[..4].iter().all(|&b| b > 0) && bytes[..4].iter().sum::<u64>() == bytes[4],
+            format!("{what}: bytes {bytes:?} do not add up"),
+        );
+        need(
+            p,
+            num(&f["build_ms"]) > 0.0 && num(&f["hash_ms"]) > 0.0 && f["internal_cells"].as_u64() < f["cells"].as_u64(),
+            format!("{what}: build figures {f}"),
+        );
+        for key in ["locate_cpu", "march_cpu"] {
+            let costs = f[key].as_array().cloned().unwrap_or_default();
+            let names: Vec<&str> = costs.iter().filter_map(|c| c["search"].as_str()).collect();
+            need(p, names == ["linear", "binary", "coherent"], format!("{what}: {key} searches {names:?}"));
+            need(
+                p,
+                costs.iter().all(|c| num(&c["ms"]) > 0.0 && num(&c["mega_per_s"]) > 0.0 && num(&c["probes_per_lookup"]) > 0.0),
+                format!("{what}: {key} figures {costs:?}"),
+            );
+        }
+        let e: Vec<f64> = f["error_near"].as_array().into_iter().flatten().map(num).collect();
+        need(p, e.len() == 3 && e[0] <= e[1] && e[1] <= e[2] && e[2].is_finite(), format!("{what}: errors {e:?}"));
+        need(p, f["hits"].as_u64().is_some_and(|h| h > 0), format!("{what}: no primary ray hits the field"));
+    }
 }
 
 /// Records `what` when `ok` is false.
@@ -320,6 +358,7 @@ fn quick_bench_of_every_preset_writes_a_complete_consistent_report() {
     bad["seed003"]["sweeps"]["lights"].as_array_mut().unwrap().pop();
     bad["seed004_renderers"]["runs"][1]["images_identical"] = false.into();
     bad["path"]["scenes"][0]["convergence"].as_array_mut().unwrap().remove(1);
+    bad["seed001"]["runs"][0]["bytes"][0] = 1.into();
     let found = check_report(&bad).join("\n");
     for what in [
         "inconsistent ratio",
@@ -329,12 +368,14 @@ fn quick_bench_of_every_preset_writes_a_complete_consistent_report() {
         "light counts",
         "inconsistent run",
         "convergence spp",
+        "do not add up",
     ] {
         assert!(found.contains(what), "checker missed `{what}`:\n{found}");
     }
     let md = std::fs::read_to_string(out.path().join("report.md")).unwrap();
     for heading in [
         "## seed000",
+        "## seed001",
         "## seed002",
         "## seed003",
         "## seed004",

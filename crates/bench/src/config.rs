@@ -15,6 +15,9 @@ pub enum Preset {
     Standard,
     /// Seed 000's experiment: BIH leaf-size sweep (shrink on/off) against the kd-trees.
     Seed000,
+    /// Seed 001's measurements: distance fields per model and level (build, hash, memory,
+    /// point location by each level search, sphere tracing, error).
+    Seed001,
     /// Seed 002's experiment: octree walk and descent, balanced or not, against the BVH.
     Seed002,
     /// Seed 003's experiment: single-threaded brute force vs the parallel accelerated
@@ -31,9 +34,10 @@ pub enum Preset {
 
 impl Preset {
     /// Every preset, in the order `--preset all` runs them.
-    pub const ALL: [Preset; 7] = [
+    pub const ALL: [Preset; 8] = [
         Preset::Standard,
         Preset::Seed000,
+        Preset::Seed001,
         Preset::Seed002,
         Preset::Seed003,
         Preset::Seed004,
@@ -46,6 +50,7 @@ impl Preset {
         match self {
             Preset::Standard => "standard",
             Preset::Seed000 => "seed000",
+            Preset::Seed001 => "seed001",
             Preset::Seed002 => "seed002",
             Preset::Seed003 => "seed003",
             Preset::Seed004 => "seed004",

@@ -28,6 +28,10 @@ pub struct Report {
     pub scenes: Vec<SceneResult>,
     /// `--preset seed000` results (BIH leaf-size sweep against the kd-trees).
     pub seed000: Option<StudyResult>,
+    /// `--preset seed001` results (distance fields). (Absent from reports written before
+    /// it existed.)
+    #[serde(default)]
+    pub seed001: Option<Seed001Result>,
     /// `--preset seed002` results (octree walks against the BVH).
     pub seed002: Option<StudyResult>,
     /// `--preset seed003` results.
@@ -63,6 +67,7 @@ impl Report {
             + studies.iter().filter_map(|s| s.as_ref()).map(|s| s.scenes.len()).sum::<usize>()
             + self.seed003.as_ref().map_or(0, |s| s.scenes.len())
             + self.dynamic.as_ref().map_or(0, |d| d.runs.len())
+            + self.seed001.as_ref().map_or(0, |s| s.runs.len())
     }
 }
 
@@ -722,4 +727,85 @@ impl MitsubaFigures {
         let excess = rmse * rmse - s2;
         (excess > 0.0 && s2 > 0.0).then(|| self.render_s * 1e3 * (s2 / excess))
     }
+}
+
+/// `--preset seed001` (`presets::seed001`): distance fields per model and maximum level.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Seed001Result {
+    /// Primary-ray image width of the sphere-tracing measurements.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Random points of the point-location and error measurements.
+    pub points: usize,
+    /// The device of the GPU columns, when `--backend gpu` was given.
+    pub gpu_adapter: Option<String>,
+    /// One entry per model and level.
+    pub runs: Vec<FieldRun>,
+}
+
+/// One field: build, tables, memory, point location, sphere tracing, error.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct FieldRun {
+    /// Model name.
+    pub scene: String,
+    /// Its triangles.
+    pub triangles: usize,
+    /// Maximum level.
+    pub max_level: u32,
+    /// Build tolerance, world units.
+    pub epsilon: f64,
+    /// Finest cell edge, world units.
+    pub finest_cell: f64,
+    /// Subdivision, T-junction rule and packing, ms.
+    pub build_ms: f64,
+    /// Perfect-hash generation, ms.
+    pub hash_ms: f64,
+    /// Hash attempts (1: the first succeeded).
+    pub hash_attempts: u32,
+    /// Cells of the full tree.
+    pub cells: u64,
+    /// Internal cells (entries of H).
+    pub internal_cells: u64,
+    /// Edges of H and Φ.
+    pub table_edges: [u32; 2],
+    /// Bytes: voxel texture, H, Φ, per-cell step bounds, total.
+    pub bytes: [u64; 5],
+    /// Bytes of a full grid at the finest resolution and of the classic ADF (voxels,
+    /// cell records).
+    pub baseline_bytes: [u64; 3],
+    /// Point location of random points, per search (linear, binary, coherent linear).
+    pub locate_cpu: Vec<SearchCost>,
+    /// The same on the device.
+    pub locate_gpu: Vec<SearchCost>,
+    /// Sphere tracing the primary rays with each search, on the CPU.
+    pub march_cpu: Vec<SearchCost>,
+    /// The same on the device.
+    pub march_gpu: Vec<SearchCost>,
+    /// Primary rays that hit the field.
+    pub hits: usize,
+    /// Device rays whose answer differs from the CPU's (hit/miss or `t` bits).
+    pub gpu_differences: Option<usize>,
+    /// |reconstructed − exact| signed distance over `ε` at random points of the cube and
+    /// at points within two finest cells of the surface: mean, 99th percentile, max.
+    pub error_cube: [f64; 3],
+    /// The same near the surface.
+    pub error_near: [f64; 3],
+    /// Share of the near-surface points within `ε`.
+    pub within_epsilon_near: f64,
+}
+
+/// One search's cost in one measurement.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct SearchCost {
+    /// `linear`, `binary` or `coherent`.
+    pub search: String,
+    /// Median wall time, ms.
+    pub ms: f64,
+    /// Lookups (points, or field samples of the march).
+    pub lookups: u64,
+    /// Hash probes per lookup.
+    pub probes_per_lookup: f64,
+    /// Millions of lookups (or, for the march, of rays) per second.
+    pub mega_per_s: f64,
 }

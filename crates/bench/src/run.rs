@@ -40,6 +40,7 @@ pub fn run(config: &BenchConfig) -> Result<Report> {
         },
         scenes: Vec::new(),
         seed000: None,
+        seed001: None,
         seed002: None,
         seed003: None,
         seed004: None,
@@ -62,6 +63,9 @@ pub fn run(config: &BenchConfig) -> Result<Report> {
             presets::study::run(config, &presets::seed000::study(config), &mut report.mismatches, &mut report.notes)?;
         r.ratios = presets::seed000::ratios(&r);
         report.seed000 = Some(r);
+    }
+    if config.presets.contains(&Preset::Seed001) {
+        report.seed001 = Some(presets::seed001::run(config, gpu.as_ref(), &mut report.notes)?);
     }
     if config.presets.contains(&Preset::Seed002) {
         let mut r =

@@ -1,10 +1,11 @@
 //! The bench's presets beyond the standard measurements: each seed's experiment
-//! (seed000, seed002, seed003, seed004), the dynamic-scene experiment and the path
+//! (seed000, seed001, seed002, seed003, seed004), the dynamic-scene experiment and the path
 //! tracer's measurements.
 
 pub mod dynamic;
 pub mod path;
 pub mod seed000;
+pub mod seed001;
 pub mod seed002;
 pub mod seed003;
 pub mod seed003_gpu;
