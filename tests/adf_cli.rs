@@ -5,7 +5,7 @@
 mod support;
 
 use std::path::Path;
-use support::{dynray, gpu_present, ok, scenes_dir};
+use support::{dynray, gpu_present, max_abs_difference, ok, read_exr_channels, scenes_dir};
 
 const W: usize = 96;
 const H: usize = 72;
@@ -31,8 +31,7 @@ fn aov_of(file: &Path, aov: &str, extra: &[&str], out: &Path) -> Vec<f32> {
     if aov == "depth" {
         return read_depth(out);
     }
-    let image = exr::prelude::read_all_flat_layers_from_file(out).unwrap();
-    image.layer_data[0].channel_data.list.iter().flat_map(|c| c.sample_data.values_as_f32()).collect()
+    read_exr_channels(out)
 }
 
 #[test]
@@ -71,7 +70,7 @@ fn the_bunny_field_covers_the_bunny_mesh_and_reports_its_tables() {
         assert!(iou >= 0.999 && worst < 1e-4, "GPU depth: IoU {iou}, worst {worst}");
         let n_cpu = aov_of(&adf, "normal", &[], &dir.path().join("n-cpu.exr"));
         let n_gpu = aov_of(&adf, "normal", &gpu, &dir.path().join("n-gpu.exr"));
-        let worst_n = n_cpu.iter().zip(&n_gpu).map(|(a, b)| (a - b).abs()).fold(0.0, f32::max);
+        let worst_n = max_abs_difference(&n_cpu, &n_gpu);
         assert!(worst_n < 1e-3, "GPU normals differ by {worst_n}");
         let shaded = dynray(&["render", adf.to_str().unwrap(), "--backend", "gpu", "-o", "never.png"]);
         let err = String::from_utf8_lossy(&shaded.stderr);

@@ -31,6 +31,7 @@ fn check_report(r: &Value) -> Vec<String> {
     let scenes = r["scenes"].as_array().cloned().unwrap_or_default();
     need(&mut p, !scenes.is_empty(), "standard: no scene".into());
     check_seed001(&r["seed001"], &mut p);
+    check_seed000_physics(&r["seed000_physics"], &mut p);
     for sc in &scenes {
         check_scene(sc, &rays, repeat, true, &mut p);
         let n = sc["structures"].as_array().map_or(0, Vec::len);
@@ -202,13 +203,42 @@ fn check_seed001(s: &Value, p: &mut Vec<String>) {
             need(p, names == ["linear", "binary", "coherent"], format!("{what}: {key} searches {names:?}"));
             need(
                 p,
-                costs.iter().all(|c| num(&c["ms"]) > 0.0 && num(&c["mega_per_s"]) > 0.0 && num(&c["probes_per_lookup"]) > 0.0),
+                costs
+                    .iter()
+                    .all(|c| num(&c["ms"]) > 0.0 && num(&c["mega_per_s"]) > 0.0 && num(&c["probes_per_lookup"]) > 0.0),
                 format!("{what}: {key} figures {costs:?}"),
             );
         }
         let e: Vec<f64> = f["error_near"].as_array().into_iter().flatten().map(num).collect();
         need(p, e.len() == 3 && e[0] <= e[1] && e[1] <= e[2] && e[2].is_finite(), format!("{what}: errors {e:?}"));
         need(p, f["hits"].as_u64().is_some_and(|h| h > 0), format!("{what}: no primary ray hits the field"));
+    }
+}
+
+/// `--preset seed000`'s dynamic scenario: ten structures, every series one entry per
+/// frame, time to image = physics + update + render, totals that add up, rays checked.
+fn check_seed000_physics(s: &Value, p: &mut Vec<String>) {
+    let frames = s["frames"].as_u64().unwrap_or(0) as usize;
+    let physics: Vec<f64> = s["physics_ms"].as_array().into_iter().flatten().map(num).collect();
+    need(
+        p,
+        frames > 0 && physics.len() == frames,
+        format!("seed000 physics: {} physics times for {frames} frames", physics.len()),
+    );
+    let runs = s["runs"].as_array().cloned().unwrap_or_default();
+    need(p, runs.len() == 10, format!("seed000 physics: {} structures, not 10", runs.len()));
+    for r in &runs {
+        let what = format!("seed000 physics {}", r["accel"]);
+        let series = |k: &str| -> Vec<f64> { r[k].as_array().into_iter().flatten().map(num).collect() };
+        let (up, render, tti) = (series("update_ms"), series("render_ms"), series("time_to_image_ms"));
+        let lens = [up.len(), series("trace_ms").len(), render.len(), tti.len()];
+        need(p, lens.iter().all(|&n| n == frames), format!("{what}: series lengths {lens:?}"));
+        let adds_up = (0..tti.len().min(up.len()).min(render.len()).min(physics.len()))
+            .all(|i| (tti[i] - (physics[i] + up[i] + render[i])).abs() <= 1e-6 * tti[i].max(1.0));
+        let total = (num(&r["total_time_to_image_ms"]) - tti.iter().sum::<f64>()).abs()
+            <= 1e-6 * num(&r["total_time_to_image_ms"]);
+        need(p, adds_up && total, format!("{what}: time to image does not add up"));
+        need(p, r["verified"].as_u64().is_some_and(|v| v > 0), format!("{what}: no ray checked"));
     }
 }
 
@@ -359,6 +389,7 @@ fn quick_bench_of_every_preset_writes_a_complete_consistent_report() {
     bad["seed004_renderers"]["runs"][1]["images_identical"] = false.into();
     bad["path"]["scenes"][0]["convergence"].as_array_mut().unwrap().remove(1);
     bad["seed001"]["runs"][0]["bytes"][0] = 1.into();
+    bad["seed000_physics"]["runs"][2]["render_ms"][0] = 1e9.into();
     let found = check_report(&bad).join("\n");
     for what in [
         "inconsistent ratio",
@@ -369,12 +400,14 @@ fn quick_bench_of_every_preset_writes_a_complete_consistent_report() {
         "inconsistent run",
         "convergence spp",
         "do not add up",
+        "time to image does not add up",
     ] {
         assert!(found.contains(what), "checker missed `{what}`:\n{found}");
     }
     let md = std::fs::read_to_string(out.path().join("report.md")).unwrap();
     for heading in [
         "## seed000",
+        "### seed000: the dynamic scenario",
         "## seed001",
         "## seed002",
         "## seed003",
@@ -400,6 +433,7 @@ fn quick_bench_of_every_preset_writes_a_complete_consistent_report() {
         "mrays",
         "seed000-sweep",
         "seed000-memory",
+        "seed000-physics",
         "seed003-speedup",
         "seed004-speedup",
         "dynamic",

@@ -6,8 +6,7 @@
 mod support;
 
 use std::path::Path;
-use std::process::Output;
-use support::{dynray, examples_dir, gpu_present, ok};
+use support::{dynray, examples_dir, fails_with, gpu_present, max_abs_difference, ok, read_exr_channels};
 
 /// Largest per-channel difference allowed: the strategies' f32 shading differs from the
 /// CPU's by a few ulps (render_strategies.rs measures 2.44e-6 on its scene).
@@ -20,14 +19,7 @@ fn render_exr(scene: Option<&Path>, extra: &[&str], out: &Path) -> Vec<f32> {
     }
     args.extend_from_slice(extra);
     ok(dynray(&args));
-    let image = exr::prelude::read_all_flat_layers_from_file(out).unwrap();
-    image.layer_data[0].channel_data.list.iter().flat_map(|c| c.sample_data.values_as_f32()).collect()
-}
-
-fn fails_with(o: Output, needle: &str) {
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(1), "{err}");
-    assert!(err.contains(needle), "expected `{needle}` in: {err}");
+    read_exr_channels(out)
 }
 
 #[test]
@@ -44,7 +36,7 @@ fn every_strategy_renders_the_cpus_image() {
             let out = dir.path().join(format!("{name}-{strategy}.exr"));
             let gpu = render_exr(scene, &["--backend", "gpu", "--gpu-strategy", strategy], &out);
             assert_eq!(gpu.len(), cpu.len());
-            let worst = cpu.iter().zip(&gpu).map(|(a, b)| (a - b).abs()).fold(0.0f32, f32::max);
+            let worst = max_abs_difference(&cpu, &gpu);
             assert!(worst <= TOLERANCE, "{name} / {strategy}: largest channel difference {worst}");
         }
         // Trees built on the device trace the same hits, so the image is the same.
@@ -52,7 +44,7 @@ fn every_strategy_renders_the_cpus_image() {
             let out = dir.path().join(format!("{name}-{build}.exr"));
             let gpu =
                 render_exr(scene, &["--backend", "gpu", "--gpu-strategy", "wavefront", "--gpu-build", build], &out);
-            let worst = cpu.iter().zip(&gpu).map(|(a, b)| (a - b).abs()).fold(0.0f32, f32::max);
+            let worst = max_abs_difference(&cpu, &gpu);
             assert!(worst <= TOLERANCE, "{name} / {build}-built tree: largest channel difference {worst}");
         }
     }

@@ -7,8 +7,7 @@
 mod support;
 
 use std::path::Path;
-use std::process::Output;
-use support::{dynray, examples_dir, gpu_present, ok};
+use support::{dynray, examples_dir, fails_with, gpu_present, max_abs_difference, ok, read_exr_channels};
 
 /// Largest per-channel difference allowed where CPU and GPU trace the same paths: f32
 /// shading in another rounding (tests/render_gpu_cli.rs uses the same bound).
@@ -24,24 +23,12 @@ fn render_exr(scene: Option<&Path>, extra: &[&str], out: &Path) -> Vec<f32> {
         args.extend_from_slice(&["--spp", "1"]);
     }
     ok(dynray(&args));
-    let image = exr::prelude::read_all_flat_layers_from_file(out).unwrap();
-    image.layer_data[0].channel_data.list.iter().flat_map(|c| c.sample_data.values_as_f32()).collect()
-}
-
-fn worst(a: &[f32], b: &[f32]) -> f32 {
-    assert_eq!(a.len(), b.len());
-    a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0f32, f32::max)
+    read_exr_channels(out)
 }
 
 fn rmse(a: &[f32], b: &[f32]) -> f64 {
     let s: f64 = a.iter().zip(b).map(|(x, y)| ((x - y) as f64).powi(2)).sum();
     (s / a.len() as f64).sqrt()
-}
-
-fn fails_with(o: Output, needle: &str) {
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(1), "{err}");
-    assert!(err.contains(needle), "expected `{needle}` in: {err}");
 }
 
 const GPU: [&str; 4] = ["--backend", "gpu", "--gpu-strategy", "wavefront"];
@@ -60,7 +47,7 @@ fn full_branch_depth_on_the_gpu_is_whitteds_image() {
         let mut args = GPU.to_vec();
         args.extend_from_slice(&["--integrator", "cumulative", "--branch-depth", "30"]);
         let gpu = render_exr(scene, &args, &dir.path().join(format!("{name}-gpu.exr")));
-        let w = worst(&cpu, &gpu);
+        let w = max_abs_difference(&cpu, &gpu);
         eprintln!("{name}: GPU cumulative (K = 30) against CPU Whitted: largest channel difference {w:.3e}");
         assert!(w <= TOLERANCE, "{name}: largest channel difference {w}");
     }
@@ -85,7 +72,7 @@ fn choices_are_the_cpus_and_passes_converge() {
         let gpu = render_exr(scene, &gpu_args, &dir.path().join(format!("gpu-{passes}.exr")));
         if passes != "16" {
             let cpu = render_exr(scene, &c, &dir.path().join(format!("cpu-{passes}.exr")));
-            let w = worst(&cpu, &gpu);
+            let w = max_abs_difference(&cpu, &gpu);
             eprintln!("K = 0, {passes} passes: GPU against CPU cumulative: largest channel difference {w:.3e}");
             assert!(w <= TOLERANCE, "{passes} passes: the GPU chose other children (difference {w})");
         }
@@ -113,9 +100,9 @@ fn expanded_paths_and_samples_choose_as_on_the_cpu() {
         let gpu = render_exr(scene, &gpu_args, &dir.path().join(format!("{name}-gpu.exr")));
         let cpu = render_exr(scene, &c, &dir.path().join(format!("{name}-cpu.exr")));
         let full = render_exr(scene, &["--spp", "2"], &dir.path().join(format!("{name}-whitted.exr")));
-        let w = worst(&cpu, &gpu);
+        let w = max_abs_difference(&cpu, &gpu);
         eprintln!("{name}, K = 1, 2 spp × 2 passes: GPU against CPU cumulative: largest difference {w:.3e}");
-        assert!(worst(&cpu, &full) > 1e-2, "{name}: K = 1 must choose somewhere");
+        assert!(max_abs_difference(&cpu, &full) > 1e-2, "{name}: K = 1 must choose somewhere");
         assert!(w <= TOLERANCE, "{name}: the GPU chose other children (difference {w})");
     }
 }

@@ -111,3 +111,26 @@ pub fn gpu_present() -> bool {
     eprintln!("skipping: {why}");
     false
 }
+
+/// Every channel of the first layer of an EXR (channel after channel, each row-major).
+pub fn read_exr_channels(path: &Path) -> Vec<f32> {
+    let image =
+        exr::prelude::read_all_flat_layers_from_file(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    image.layer_data[0].channel_data.list.iter().flat_map(|c| c.sample_data.values_as_f32()).collect()
+}
+
+/// The largest absolute difference between two equally long images' values.
+pub fn max_abs_difference(a: &[f32], b: &[f32]) -> f32 {
+    assert_eq!(a.len(), b.len(), "images of different sizes");
+    a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0f32, f32::max)
+}
+
+/// Asserts a clean failure: exit 1, one `dynray:` message mentioning `needle`, no panic.
+#[track_caller]
+pub fn fails_with(o: Output, needle: &str) {
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "expected exit 1, got {:?}: {err}", o.status);
+    assert!(err.contains("dynray: "), "message should say `dynray: `: {err}");
+    assert!(err.contains(needle), "message should mention {needle:?}: {err}");
+    assert!(!err.contains("panicked"), "{err}");
+}

@@ -227,6 +227,9 @@ pub fn render(r: &Report, png: bool) -> String {
     if let Some(p) = &r.seed000 {
         crate::presets::seed000::markdown(p, png, &mut s);
     }
+    if let Some(p) = &r.seed000_physics {
+        crate::presets::seed000_physics::markdown(p, png, &mut s);
+    }
     if let Some(p) = &r.seed001 {
         crate::presets::seed001::markdown(p, &mut s);
     }

@@ -28,6 +28,10 @@ pub struct Report {
     pub scenes: Vec<SceneResult>,
     /// `--preset seed000` results (BIH leaf-size sweep against the kd-trees).
     pub seed000: Option<StudyResult>,
+    /// `--preset seed000`'s dynamic scenario (an elastic bunny dropped; structures rebuilt
+    /// or refitted per frame). (Absent from reports written before it existed.)
+    #[serde(default)]
+    pub seed000_physics: Option<Seed000Physics>,
     /// `--preset seed001` results (distance fields). (Absent from reports written before
     /// it existed.)
     #[serde(default)]
@@ -769,6 +773,11 @@ pub struct FieldRun {
     pub internal_cells: u64,
     /// Edges of H and Φ.
     pub table_edges: [u32; 2],
+    /// The unmodified Lefebvre–Hoppe hash (`w = m̄`) generated on the same keys: its
+    /// time, ms (to success or to giving up).
+    pub lefebvre_hoppe_ms: f64,
+    /// Its attempts when it succeeded; `None`: it failed within the retry budget.
+    pub lefebvre_hoppe_attempts: Option<u32>,
     /// Bytes: voxel texture, H, Φ, per-cell step bounds, total.
     pub bytes: [u64; 5],
     /// Bytes of a full grid at the finest resolution and of the classic ADF (voxels,
@@ -808,4 +817,50 @@ pub struct SearchCost {
     pub probes_per_lookup: f64,
     /// Millions of lookups (or, for the march, of rays) per second.
     pub mega_per_s: f64,
+}
+
+/// `--preset seed000`'s dynamic scenario (`presets::seed000_physics`).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Seed000Physics {
+    /// Triangles of the frame (the bunny and the floor).
+    pub triangles: usize,
+    /// Phyxels of the elastic body.
+    pub phyxels: usize,
+    /// The world in words (bodies, pairs, steps per frame).
+    pub world: String,
+    /// Frames simulated and rendered.
+    pub frames: usize,
+    /// Frames per second of simulated time.
+    pub frame_rate: u32,
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Simulation time per frame, ms (once; shared by every structure).
+    pub physics_ms: Vec<f64>,
+    /// One entry per structure.
+    pub runs: Vec<PhysicsRun>,
+}
+
+/// One structure following the deforming mesh.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct PhysicsRun {
+    /// `--accels` spelling.
+    pub accel: String,
+    /// True: refitted each frame (`update`); false: rebuilt from scratch.
+    pub refit: bool,
+    /// Rebuild or refit per frame, ms.
+    pub update_ms: Vec<f64>,
+    /// Primary trace per frame, ms.
+    pub trace_ms: Vec<f64>,
+    /// Whitted render per frame, ms.
+    pub render_ms: Vec<f64>,
+    /// Physics + update + render per frame, ms.
+    pub time_to_image_ms: Vec<f64>,
+    /// Sum of `time_to_image_ms`.
+    pub total_time_to_image_ms: f64,
+    /// Median of `time_to_image_ms`.
+    pub median_time_to_image_ms: f64,
+    /// Primary rays checked against brute force over all frames.
+    pub verified: usize,
 }

@@ -40,6 +40,7 @@ pub fn run(config: &BenchConfig) -> Result<Report> {
         },
         scenes: Vec::new(),
         seed000: None,
+        seed000_physics: None,
         seed001: None,
         seed002: None,
         seed003: None,
@@ -63,6 +64,7 @@ pub fn run(config: &BenchConfig) -> Result<Report> {
             presets::study::run(config, &presets::seed000::study(config), &mut report.mismatches, &mut report.notes)?;
         r.ratios = presets::seed000::ratios(&r);
         report.seed000 = Some(r);
+        report.seed000_physics = Some(presets::seed000_physics::run(config, &mut report.mismatches)?);
     }
     if config.presets.contains(&Preset::Seed001) {
         report.seed001 = Some(presets::seed001::run(config, gpu.as_ref(), &mut report.notes)?);
@@ -159,6 +161,9 @@ fn write_charts(config: &BenchConfig, report: &Report) -> Result<()> {
     }
     if let Some(s) = &report.seed003 {
         charts::save(&presets::seed003::chart(s), out, "seed003-speedup", config.png)?;
+    }
+    if let Some(p) = &report.seed000_physics {
+        charts::save(&presets::seed000_physics::chart(p), out, "seed000-physics", config.png)?;
     }
     if let Some(s) = &report.seed000 {
         charts::save(&presets::seed000::sweep_chart(s), out, "seed000-sweep", config.png)?;

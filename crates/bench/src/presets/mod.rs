@@ -5,6 +5,7 @@
 pub mod dynamic;
 pub mod path;
 pub mod seed000;
+pub mod seed000_physics;
 pub mod seed001;
 pub mod seed002;
 pub mod seed003;

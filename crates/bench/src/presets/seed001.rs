@@ -13,10 +13,10 @@ use crate::format::{bytes, num, thousands};
 use crate::gpu::GpuSession;
 use crate::measure::warm_then_timed;
 use crate::progress::progress_bar;
-use crate::report::{median, FieldRun, Seed001Result, SearchCost};
+use crate::report::{median, FieldRun, SearchCost, Seed001Result};
 use crate::scenes::load_scenes;
 use anyhow::{Context, Result};
-use dynray_adf::{Adf, BuildParams, DistanceSource, MeshSource, Search};
+use dynray_adf::{key_of_id, Adf, BuildParams, DistanceSource, HashVariant, MeshSource, PerfectHash, Search};
 use dynray_geom::{Ray, TriangleMesh, Vec3};
 use dynray_gpu::GpuAdf;
 use dynray_render::CameraRays;
@@ -51,8 +51,13 @@ fn plan(config: &BenchConfig) -> Vec<(String, Vec<u32>)> {
 /// Runs the preset. Device failures (a table too large for the adapter) become notes and
 /// leave that field's GPU columns empty.
 pub fn run(config: &BenchConfig, gpu: Option<&GpuSession>, notes: &mut Vec<String>) -> Result<Seed001Result> {
-    let (width, height) =
-        if config.size_given { (config.width, config.height) } else if config.quick { (64, 48) } else { (640, 480) };
+    let (width, height) = if config.size_given {
+        (config.width, config.height)
+    } else if config.quick {
+        (64, 48)
+    } else {
+        (640, 480)
+    };
     let points = if config.quick { 4_000 } else { 200_000 };
     let plan = plan(config);
     let total: usize = plan.iter().map(|(_, l)| l.len()).sum();
@@ -170,9 +175,8 @@ fn measure_cpu(
     let finest = adf.cube().size / (1u32 << adf.max_level()) as f32;
     let cube = adf.cube();
     let mut rng = SmallRng::seed_from_u64(3);
-    let in_cube: Vec<Vec3> = (0..points / 10)
-        .map(|_| cube.origin + Vec3::new(rng.gen(), rng.gen(), rng.gen()) * cube.size)
-        .collect();
+    let in_cube: Vec<Vec3> =
+        (0..points / 10).map(|_| cube.origin + Vec3::new(rng.gen(), rng.gen(), rng.gen()) * cube.size).collect();
     let near = near_surface(mesh, finest, points / 10);
     let errors = |ps: &[Vec3]| -> Vec<f64> {
         ps.par_iter()
@@ -187,6 +191,11 @@ fn measure_cpu(
     let m = adf.memory();
     let info = adf.info();
     let hash = adf.hash();
+    // The seed's claim: the original hash fails on deep trees. The same keys, w = m̄.
+    let keys: Vec<[u32; 3]> = hash.entries().iter().filter(|e| e.id != 0).map(|e| key_of_id(e.id)).collect();
+    let t = std::time::Instant::now();
+    let plain = PerfectHash::generate(&keys, HashVariant::LefebvreHoppe);
+    let lefebvre_hoppe_ms = crate::measure::ms(t);
     Ok(FieldRun {
         scene: name.to_string(),
         triangles: mesh.triangle_count(),
@@ -199,6 +208,8 @@ fn measure_cpu(
         cells: adf.cells(),
         internal_cells: adf.internal_cells(),
         table_edges: [hash.table_edge(), hash.offset_edge()],
+        lefebvre_hoppe_ms,
+        lefebvre_hoppe_attempts: plain.ok().map(|h| h.attempts()),
         bytes: [m.voxel_bytes, m.cell_table_bytes, m.offset_table_bytes, m.step_bound_bytes, m.total_bytes()],
         baseline_bytes: [m.full_grid_bytes, m.classic_voxel_bytes, m.classic_cell_bytes],
         locate_cpu,
@@ -283,9 +294,9 @@ pub fn markdown(r: &Seed001Result, s: &mut String) {
     let _ = writeln!(
         s,
         "### Build, tables and memory\n\n\
-         | model | level | cells (internal) | build s | hash s (attempts) | H / Φ | voxels | H | Φ | bounds | total | \
-         / full grid | / classic ADF | voxels / classic | H / classic records |\n\
-         |---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|"
+         | model | level | cells (internal) | build s | hash s (attempts) | Lefebvre–Hoppe hash s | H / Φ | voxels | H | Φ | \
+         bounds | total | / full grid | / classic ADF | voxels / classic | H / classic records |\n\
+         |---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|"
     );
     let pct = |a: u64, b: u64| format!("{:.1} %", 100.0 * a as f64 / b.max(1) as f64);
     for f in &r.runs {
@@ -293,7 +304,7 @@ pub fn markdown(r: &Seed001Result, s: &mut String) {
         let [grid, cvox, ccell] = f.baseline_bytes;
         let _ = writeln!(
             s,
-            "| {} | {} | {} ({}) | {:.1} | {:.2} ({}) | {}³ / {}³ | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            "| {} | {} | {} ({}) | {:.1} | {:.2} ({}) | {} | {}³ / {}³ | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
             f.scene,
             f.max_level,
             thousands(f.cells),
@@ -301,6 +312,10 @@ pub fn markdown(r: &Seed001Result, s: &mut String) {
             f.build_ms / 1e3,
             f.hash_ms / 1e3,
             f.hash_attempts,
+            match f.lefebvre_hoppe_attempts {
+                Some(a) => format!("{:.2} ({a})", f.lefebvre_hoppe_ms / 1e3),
+                None => format!("failed ({:.2})", f.lefebvre_hoppe_ms / 1e3),
+            },
             f.table_edges[0],
             f.table_edges[1],
             bytes(vox as usize),
@@ -321,23 +336,11 @@ pub fn markdown(r: &Seed001Result, s: &mut String) {
          |---|--:|---|--:|--:|--:|--:|--:|--:|--:|--:|"
     );
     for f in &r.runs {
-        let _ = writeln!(
-            s,
-            "| {} | {} | CPU | {} | {} |",
-            f.scene,
-            f.max_level,
-            search_cells(&f.locate_cpu),
-            search_cells(&f.march_cpu)
-        );
-        if !f.locate_gpu.is_empty() {
-            let _ = writeln!(
-                s,
-                "| {} | {} | GPU | {} | {} |",
-                f.scene,
-                f.max_level,
-                search_cells(&f.locate_gpu),
-                search_cells(&f.march_gpu)
-            );
+        for (place, locate, march) in [("CPU", &f.locate_cpu, &f.march_cpu), ("GPU", &f.locate_gpu, &f.march_gpu)] {
+            if !locate.is_empty() {
+                let (l, m) = (search_cells(locate), search_cells(march));
+                let _ = writeln!(s, "| {} | {} | {place} | {l} | {m} |", f.scene, f.max_level);
+            }
         }
     }
     let _ = writeln!(
