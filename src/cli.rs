@@ -63,7 +63,8 @@ pub struct AdfBuildArgs {
     /// The .adf file to write (written to a temporary name, then renamed).
     #[arg(short, long, value_name = "FILE.adf")]
     pub output: PathBuf,
-    /// Deepest octree level, 1 to 10 (cells near the surface reach it).
+    /// Deepest octree level, 1 to 16 (cells near the surface reach it; past 10, H has
+    /// a second identifier word per slot).
     #[arg(long, value_name = "L", default_value_t = 8)]
     pub max_level: u32,
     /// Subdivision tolerance, as a fraction of the field's cube edge.

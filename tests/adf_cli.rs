@@ -142,10 +142,10 @@ fn damaged_files_and_impossible_builds_are_clear_errors() {
     }
     // A level the format does not address: an error, and no file.
     let deep = dir.path().join("deep.adf");
-    let o = dynray(&["adf", "build", mesh.to_str().unwrap(), "-o", deep.to_str().unwrap(), "--max-level", "11"]);
+    let o = dynray(&["adf", "build", mesh.to_str().unwrap(), "-o", deep.to_str().unwrap(), "--max-level", "17"]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(1), "{err}");
-    assert!(err.contains("max level 11"), "{err}");
+    assert!(err.contains("max level 17"), "{err}");
     assert!(!deep.exists());
     assert_eq!(
         std::fs::read_dir(dir.path())

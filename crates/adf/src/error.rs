@@ -62,7 +62,10 @@ pub enum FileError {
         path: PathBuf,
     },
     /// A version this build does not read.
-    #[error("{}: format version {found}, this dynray reads version {supported}", path.display())]
+    #[error(
+        "{}: format version {found}, this dynray reads version {supported} (rebuild it with `dynray adf build`)",
+        path.display()
+    )]
     Version {
         /// The file.
         path: PathBuf,

@@ -6,7 +6,7 @@
 //! Writing goes to a temporary file in the same folder, renamed over the target when
 //! complete: no partial file is ever left under the target's name.
 
-use crate::hash::{key_of_id, CellEntry, PerfectHash, PhiEntry};
+use crate::hash::{CellEntry, PerfectHash, PhiEntry};
 use crate::{Adf, BuildInfo, Cube, FileError, View, ViewProjection, VoxelTexture, MAX_LEVEL};
 use bytemuck::{Pod, Zeroable};
 use dynray_geom::{Aabb, Vec3};
@@ -15,8 +15,10 @@ use std::path::Path;
 
 /// The first 8 bytes of every `.adf` file.
 pub const MAGIC: [u8; 8] = *b"DYNRADF\0";
-/// The format version this build reads and writes.
-pub const FORMAT_VERSION: u32 = 1;
+/// The format version this build reads and writes. Version 2 (trees to level 16: the
+/// header's per-level counts to 16, H's second identifier words) replaced version 1,
+/// which files written before it carry: rebuild those with `dynray adf build`.
+pub const FORMAT_VERSION: u32 = 2;
 
 // The tables are cast to bytes as they are in memory.
 const _: () = assert!(cfg!(target_endian = "little"), "the .adf format is little-endian");
@@ -37,6 +39,8 @@ struct Header {
     hash_m: u32,
     hash_r: u32,
     hash_attempts: u32,
+    /// 1: H has a second identifier word per slot (trees deeper than 10 levels).
+    wide_ids: u32,
     cube_origin: [f32; 3],
     cube_size: f32,
     source_min: [f32; 3],
@@ -57,8 +61,8 @@ struct Header {
     leaves_per_level: [[u32; 2]; LEVEL_SLOTS],
 }
 
-// 74 four-byte fields; docs/adf.md gives this size.
-const _: () = assert!(std::mem::size_of::<Header>() == 296);
+// 93 four-byte fields; docs/adf.md gives this size.
+const _: () = assert!(std::mem::size_of::<Header>() == 372);
 
 fn split(x: u64) -> [u32; 2] {
     [x as u32, (x >> 32) as u32]
@@ -109,6 +113,7 @@ impl Adf {
             hash_m: self.hash.m,
             hash_r: self.hash.r,
             hash_attempts: self.hash.attempts,
+            wide_ids: !self.hash.high.is_empty() as u32,
             cube_origin: self.cube.origin.to_array(),
             cube_size: self.cube.size,
             source_min: self.source_bounds.min.to_array(),
@@ -131,6 +136,7 @@ impl Adf {
         out.extend_from_slice(bytemuck::bytes_of(&h));
         out.extend_from_slice(bytemuck::cast_slice(&self.voxels.texels));
         out.extend_from_slice(bytemuck::cast_slice(&self.hash.table));
+        out.extend_from_slice(bytemuck::cast_slice(&self.hash.high));
         out.extend_from_slice(bytemuck::cast_slice(&self.hash.phi));
         out.extend_from_slice(bytemuck::cast_slice(&self.cell_lipschitz));
         let sum = fnv1a(&out);
@@ -189,7 +195,11 @@ impl Adf {
         // the length check before anything is allocated.
         let slots: u64 = h.block_dims.iter().map(|&d| d as u64).product();
         let (voxels, table, phi) = (27 * slots, (h.hash_m as u64).pow(3), (h.hash_r as u64).pow(3));
-        let expected = hsize as u64 + 4 * voxels + 8 * table + 8 * phi + 4 * h.internal_cells as u64 + 8;
+        if h.wide_ids > 1 {
+            return Err(corrupt(format!("identifier width flag {}", h.wide_ids)));
+        }
+        let high = if h.wide_ids == 1 { table } else { 0 };
+        let expected = hsize as u64 + 4 * voxels + 8 * table + 4 * high + 8 * phi + 4 * h.internal_cells as u64 + 8;
         if bytes.len() as u64 != expected {
             return Err(length(expected));
         }
@@ -215,10 +225,12 @@ impl Adf {
             return Err(corrupt("non-finite or non-positive cube, bounds, epsilon or Lipschitz bound".into()));
         }
         let (v0, t0) = (hsize, hsize + 4 * voxels as usize);
-        let p0 = t0 + 8 * table as usize;
+        let w0 = t0 + 8 * table as usize;
+        let p0 = w0 + 4 * high as usize;
         let l0 = p0 + 8 * phi as usize;
         let texels: Vec<f32> = bytemuck::pod_collect_to_vec(&bytes[v0..t0]);
-        let table: Vec<CellEntry> = bytemuck::pod_collect_to_vec(&bytes[t0..p0]);
+        let table: Vec<CellEntry> = bytemuck::pod_collect_to_vec(&bytes[t0..w0]);
+        let high: Vec<u32> = bytemuck::pod_collect_to_vec(&bytes[w0..p0]);
         let phi: Vec<PhiEntry> = bytemuck::pod_collect_to_vec(&bytes[p0..l0]);
         let cell_lipschitz: Vec<f32> = bytemuck::pod_collect_to_vec(&bytes[l0..body]);
         if cell_lipschitz.iter().any(|x| !(x.is_finite() && *x >= 0.0)) {
@@ -232,11 +244,11 @@ impl Adf {
         {
             return Err(corrupt(format!("offset entry {e:?} outside the {}^3 cell table", h.hash_m)));
         }
-        let hash = PerfectHash { m: h.hash_m, r: h.hash_r, phi, table, attempts: h.hash_attempts };
+        let hash = PerfectHash { m: h.hash_m, r: h.hash_r, phi, table, high, attempts: h.hash_attempts };
         // Every stored cell must be where its key hashes, inside the tree, and name a block.
         let mut stored = 0u64;
-        for (s, e) in hash.table.iter().enumerate().filter(|(_, e)| e.id != 0) {
-            let k = key_of_id(e.id);
+        for (s, k) in (0..hash.table.len()).filter_map(|s| Some((s, hash.key_at(s)?))) {
+            let e = hash.table[s];
             let level = 31 - k[0].max(1).leading_zeros();
             let same_level = k.iter().all(|&c| c >= 1 && 31 - c.leading_zeros() == level);
             if !same_level || level >= h.max_level || hash.slot(k) != s || e.block as u64 >= n {

@@ -16,11 +16,14 @@
 //! `r̄`; past the budget generation fails with [`AdfError::HashNotFound`]. The random
 //! streams are fixed (seeded by the attempt number), so the tables are reproducible.
 //!
-//! Each H entry holds a 4-byte identifier of its key (the three components, 10 bits
-//! each: exact for keys below 1024, i.e. internal cells down to level 9 and trees of
-//! level [`crate::MAX_LEVEL`] = 10) and the key's block; 0 marks an empty slot (real keys
-//! have every component ≥ 1), so a query for a cell that does not exist is answered by
-//! one mismatching fetch.
+//! Each H entry holds a 4-byte identifier of its key (the low 10 bits of the three
+//! components: exact for keys below 1024, i.e. internal cells down to level 9 and trees
+//! of level 10, the seed's layout) and the key's block. Deeper trees (to
+//! [`crate::MAX_LEVEL`]) have keys up to `2^15`; for them H gains a second 4-byte word
+//! per slot with the components' higher bits ([`PerfectHash::high_ids`], empty for
+//! trees of level 10 or less). An empty slot has both words 0 (real keys have every
+//! component ≥ 1, so one of the words is not), so a query for a cell that does not
+//! exist is answered by one mismatching fetch.
 
 use crate::AdfError;
 use bytemuck::{Pod, Zeroable};
@@ -48,17 +51,25 @@ pub struct PhiEntry {
 // 8 bytes each: an RG32UI and an RGBA16UI texel.
 const _: () = assert!(std::mem::size_of::<CellEntry>() == 8 && std::mem::size_of::<PhiEntry>() == 8);
 
-/// The 4-byte identifier of a key with components below 1024.
+/// The 4-byte identifier of a key: the low 10 bits of each component (the whole key
+/// for components below 1024).
 #[inline]
 pub fn key_id(k: [u32; 3]) -> u32 {
-    debug_assert!(k.iter().all(|&c| (1..1024).contains(&c)), "key {k:?} outside the 10-bit identifier");
-    k[0] | k[1] << 10 | k[2] << 20
+    debug_assert!(k.iter().all(|&c| (1..1 << 20).contains(&c)), "key {k:?} outside the identifiers");
+    (k[0] & 1023) | (k[1] & 1023) << 10 | (k[2] & 1023) << 20
 }
 
-/// The key an identifier was made from.
+/// The second identifier word of a key: the components' bits above the tenth (0 for
+/// keys below 1024).
 #[inline]
-pub fn key_of_id(id: u32) -> [u32; 3] {
-    [id & 1023, (id >> 10) & 1023, (id >> 20) & 1023]
+pub fn key_high_id(k: [u32; 3]) -> u32 {
+    (k[0] >> 10) | (k[1] >> 10) << 10 | (k[2] >> 10) << 20
+}
+
+/// The key two identifier words were made from.
+#[inline]
+pub fn key_of_id(id: u32, high: u32) -> [u32; 3] {
+    [0, 10, 20].map(|s| ((id >> s) & 1023) | ((high >> s) & 1023) << 10)
 }
 
 /// Attempts per offset-table size before it grows.
@@ -77,6 +88,9 @@ pub struct PerfectHash {
     pub(crate) phi: Vec<PhiEntry>,
     /// `m̄³` entries, x fastest.
     pub(crate) table: Vec<CellEntry>,
+    /// Per slot of `table`, the key's [`key_high_id`]; empty when every key is below
+    /// 1024 (trees of level 10 or less).
+    pub(crate) high: Vec<u32>,
     /// Attempts generation took (1 = the first succeeded).
     pub(crate) attempts: u32,
 }
@@ -111,14 +125,33 @@ impl PerfectHash {
         &self.table
     }
 
+    /// The second identifier word of every slot of H, x fastest; empty for trees of
+    /// level 10 or less (what a device uploads beside H).
+    pub fn high_ids(&self) -> &[u32] {
+        &self.high
+    }
+
+    /// The stored keys, in slot order.
+    pub fn keys(&self) -> Vec<[u32; 3]> {
+        (0..self.table.len()).filter_map(|s| self.key_at(s)).collect()
+    }
+
+    /// The key stored in slot `s`, `None` for an empty slot.
+    #[inline]
+    pub(crate) fn key_at(&self, s: usize) -> Option<[u32; 3]> {
+        let id = self.table.get(s)?.id;
+        let high = self.high.get(s).copied().unwrap_or(0);
+        (id != 0 || high != 0).then(|| key_of_id(id, high))
+    }
+
     /// Attempts generation took.
     pub fn attempts(&self) -> u32 {
         self.attempts
     }
 
-    /// Bytes of H and of Φ.
+    /// Bytes of H (with its second identifier words, if any) and of Φ.
     pub fn memory_bytes(&self) -> (usize, usize) {
-        (self.table.len() * 8, self.phi.len() * 8)
+        (self.table.len() * 8 + self.high.len() * 4, self.phi.len() * 8)
     }
 
     #[inline]
@@ -140,11 +173,13 @@ impl PerfectHash {
     /// fetch and one H fetch.
     #[inline]
     pub fn find(&self, k: [u32; 3]) -> Option<u32> {
-        let e = self.table.get(self.slot(k))?;
-        (e.id == key_id(k)).then_some(e.block)
+        let s = self.slot(k);
+        let e = self.table.get(s)?;
+        let high = self.high.get(s).copied().unwrap_or(0);
+        (e.id == key_id(k) && high == key_high_id(k)).then_some(e.block)
     }
 
-    /// A perfect hash of `keys` (distinct, components in `1..1024`), key `i` mapped to
+    /// A perfect hash of `keys` (distinct, components in `1..2^20`), key `i` mapped to
     /// block `i`.
     pub fn generate(keys: &[[u32; 3]], variant: HashVariant) -> Result<Self, AdfError> {
         let n = keys.len();
@@ -161,11 +196,17 @@ impl PerfectHash {
             for _ in 0..TRIES_PER_SIZE {
                 attempts += 1;
                 if let Some(phi) = attempt(keys, m, r, variant, 0x9E37_79B9_7F4A_7C15 ^ attempts as u64) {
-                    let mut h = Self { m, r, phi, table: vec![CellEntry::default(); (m as usize).pow(3)], attempts };
+                    let slots = (m as usize).pow(3);
+                    let wide = keys.iter().any(|k| key_high_id(*k) != 0);
+                    let high = if wide { vec![0; slots] } else { Vec::new() };
+                    let mut h = Self { m, r, phi, table: vec![CellEntry::default(); slots], high, attempts };
                     for (i, &k) in keys.iter().enumerate() {
                         let s = h.slot(k);
-                        debug_assert_eq!(h.table[s].id, 0, "two keys in slot {s}");
+                        debug_assert!(h.key_at(s).is_none(), "two keys in slot {s}");
                         h.table[s] = CellEntry { id: key_id(k), block: i as u32 };
+                        if wide {
+                            h.high[s] = key_high_id(k);
+                        }
                     }
                     return Ok(h);
                 }
@@ -310,7 +351,11 @@ mod tests {
             assert!(!std::mem::replace(&mut seen[h.slot(k)], true), "collision at {k:?}");
         }
         assert_eq!(h.find([16, 17, 16]), None, "(1+0+1) % 3 != 0: not stored");
-        assert_eq!(key_of_id(key_id([5, 1023, 77])), [5, 1023, 77]);
+        let k = [5, 1023, 77];
+        assert_eq!((key_of_id(key_id(k), key_high_id(k)), key_high_id(k)), (k, 0));
+        let deep = [1 << 15, 40_000, 1024];
+        assert_eq!(key_of_id(key_id(deep), key_high_id(deep)), deep);
+        assert_ne!(key_high_id(deep), 0);
     }
 
     #[test]

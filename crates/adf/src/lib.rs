@@ -46,7 +46,7 @@ pub use error::{AdfError, FileError};
 pub use field::{DistanceSource, SphereSource};
 pub use file::{FORMAT_VERSION, MAGIC};
 pub use geometry::AdfGeometry;
-pub use hash::{key_id, key_of_id, CellEntry, HashVariant, PerfectHash, PhiEntry};
+pub use hash::{key_high_id, key_id, key_of_id, CellEntry, HashVariant, PerfectHash, PhiEntry};
 pub use locate::{Located, Search};
 pub use sign::{MeshSource, Topology, SIGN_RAYS};
 pub use stats::MemoryFigures;
@@ -55,9 +55,11 @@ pub use trace::{MarchStats, MAX_MARCH_STEPS};
 use dynray_geom::{Aabb, TriangleMesh, Vec3};
 use std::time::Instant;
 
-/// The deepest tree level the format addresses: internal cells reach level 9, whose
-/// keys (components below 1024) fit the 4-byte identifiers of H.
-pub const MAX_LEVEL: u32 = 10;
+/// The deepest tree level the format addresses. Up to level 10 the keys of internal
+/// cells (components below 1024) fit the seed's 4-byte identifiers of H; deeper trees
+/// add a second identifier word per slot (`hash.rs`). 16 keeps a finest cell 256 f32
+/// ulps wide at the cube's far side.
+pub const MAX_LEVEL: u32 = 16;
 
 /// Build parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]

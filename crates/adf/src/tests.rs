@@ -30,7 +30,7 @@ fn sphere_adf(max_level: u32, epsilon: f32, rule: bool) -> Adf {
 
 /// Every internal cell's key, read back from H.
 fn stored_keys(adf: &Adf) -> HashSet<[u32; 3]> {
-    adf.hash.table.iter().filter(|e| e.id != 0).map(|e| key_of_id(e.id)).collect()
+    adf.hash.keys().into_iter().collect()
 }
 
 fn key(level: u32, q: [u32; 3], max_level: u32) -> [u32; 3] {
@@ -38,10 +38,19 @@ fn key(level: u32, q: [u32; 3], max_level: u32) -> [u32; 3] {
 }
 
 #[test]
-fn level_10_hash_is_collision_free_and_finds_every_internal_cell() {
-    let adf = sphere_adf(10, 1e-3, true);
+fn deep_hashes_are_collision_free_and_find_every_internal_cell() {
+    // Level 10: the seed's 4-byte identifiers; level 11: keys past 1024, H's second word.
+    for level in [10, 11] {
+        check_deep_hash(level);
+    }
+}
+
+fn check_deep_hash(level: u32) {
+    let adf = sphere_adf(level, 1e-3, true);
     let n = adf.internal_cells();
-    assert!(adf.info.internal_per_level[9] > 0, "cells at level 9: {:?}", adf.info.internal_per_level);
+    let deepest = level as usize - 1;
+    assert!(adf.info.internal_per_level[deepest] > 0, "cells at level {deepest}: {:?}", adf.info.internal_per_level);
+    assert_eq!(adf.hash.high_ids().is_empty(), level <= 10, "second identifier words exactly past level 10");
     let keys = stored_keys(&adf);
     assert_eq!(keys.len() as u64, n, "H holds each internal cell once");
     let mut slots = HashSet::new();
@@ -54,8 +63,19 @@ fn level_10_hash_is_collision_free_and_finds_every_internal_cell() {
     // H is the smallest cube that holds every internal cell.
     let m = adf.hash.table_edge();
     assert!((m as u64).pow(3) >= n && ((m - 1) as u64).pow(3) < n);
+    // The three searches find the deepest stored cell, and the file keeps every table.
+    let mut rng = Rng(level as u64);
+    let fine = 1u32 << level;
+    for _ in 0..2000 {
+        let q = rng.v().to_array().map(|c| ((c * fine as f32) as u32).min(fine - 1));
+        let want = (1..level).take_while(|&lv| keys.contains(&key(lv, q, level))).last().unwrap_or(0);
+        for s in [Search::Linear, Search::Binary, Search::CoherentLinear] {
+            assert_eq!(adf.locate_fine(q, s, &mut 0).level, want, "level {level}, {s:?} at {q:?}");
+        }
+    }
+    assert_eq!(Adf::from_bytes(&adf.to_bytes(), std::path::Path::new("deep.adf")).unwrap(), adf);
     eprintln!(
-        "level 10: {n} internal cells, H {m}^3, Φ {}^3, hash {:.0} ms in {} attempt(s), build {:.0} ms",
+        "level {level}: {n} internal cells, H {m}^3, Φ {}^3, hash {:.0} ms in {} attempt(s), build {:.0} ms",
         adf.hash.offset_edge(),
         adf.info.hash_ms,
         adf.hash.attempts(),
@@ -231,9 +251,12 @@ fn files_round_trip_and_damage_is_an_error() {
     assert!(matches!(Adf::from_bytes(&bytes[..100], p), Err(FileError::Length { .. })));
     assert!(matches!(Adf::from_bytes(&bytes[..5], p), Err(FileError::NotAdf { .. })));
     assert!(matches!(Adf::from_bytes(b"not an adf at all", p), Err(FileError::NotAdf { .. })));
-    let mut v2 = bytes.clone();
-    v2[8] = 2;
-    assert!(matches!(Adf::from_bytes(&v2, p), Err(FileError::Version { found: 2, .. })));
+    // Version 1 (the 10-level format before this one) and an unknown future version.
+    for v in [1u8, 3] {
+        let mut other = bytes.clone();
+        other[8] = v;
+        assert!(matches!(Adf::from_bytes(&other, p), Err(FileError::Version { found, .. }) if found == v as u32));
+    }
     // A flipped bit anywhere in the body fails the checksum.
     for at in [200, bytes.len() / 2, bytes.len() - 9] {
         let mut bad = bytes.clone();
@@ -252,7 +275,7 @@ fn files_round_trip_and_damage_is_an_error() {
 fn bad_parameters_are_errors() {
     let b = Aabb::new(Vec3::splat(-1.0), Vec3::splat(1.0));
     let build = |max_level, epsilon| Adf::build(&sphere(), b, &BuildParams { max_level, epsilon }, &|_, _| {});
-    assert!(matches!(build(11, 1e-3), Err(AdfError::LevelOutOfRange { level: 11, max: 10 })));
+    assert!(matches!(build(17, 1e-3), Err(AdfError::LevelOutOfRange { level: 17, max: 16 })));
     assert!(matches!(build(0, 1e-3), Err(AdfError::LevelOutOfRange { .. })));
     assert!(matches!(build(5, 0.0), Err(AdfError::BadEpsilon(_))));
     assert!(matches!(build(5, f32::NAN), Err(AdfError::BadEpsilon(_))));
@@ -273,7 +296,7 @@ fn a_mesh_field_is_signed_and_the_same_for_any_thread_count() {
     assert!(topo.is_closed());
     let (ab, bb) = (a.to_bytes(), b.to_bytes());
     // Past the header (its build times differ), up to the checksum (which covers them).
-    assert_eq!(ab[296..ab.len() - 8], bb[296..bb.len() - 8], "tables differ with the thread count");
+    assert_eq!(ab[372..ab.len() - 8], bb[372..bb.len() - 8], "tables differ with the thread count");
     assert!((a.distance(Vec3::splat(0.5), Search::Linear).unwrap() + 0.5).abs() < 1e-3);
     assert!((a.distance(Vec3::new(1.05, 0.5, 0.5), Search::Linear).unwrap() - 0.05).abs() < 2e-3);
 }

@@ -26,7 +26,8 @@ struct AdfParams {
     texel_count: u32,
     // 1: the march also writes the field's gradient at the hit.
     normals: u32,
-    _pad0: u32,
+    // 1: H has a second identifier word per slot (`high_ids`: trees deeper than 10).
+    wide: u32,
     _pad1: u32,
 }
 
@@ -60,6 +61,8 @@ struct MarchAnswer {
 @group(0) @binding(6) var<storage, read_write> answers: array<MarchAnswer>;
 @group(0) @binding(7) var<storage, read> points: array<vec4<u32>>;
 @group(0) @binding(8) var<storage, read_write> located: array<vec4<u32>>;
+// H's second identifier words (one zero word when the tree has none).
+@group(0) @binding(9) var<storage, read> high_ids: array<u32>;
 
 const MAX_MARCH_STEPS: u32 = 4096u;
 const MIN_STEP: f32 = 0.1;
@@ -95,7 +98,13 @@ fn fmax_(a: f32, b: f32) -> f32 {
 }
 
 fn key_id(k: vec3<u32>) -> u32 {
-    return k.x | (k.y << 10u) | (k.z << 20u);
+    let low = k & vec3<u32>(1023u);
+    return low.x | (low.y << 10u) | (low.z << 20u);
+}
+
+fn key_high_id(k: vec3<u32>) -> u32 {
+    let high = k >> vec3<u32>(10u);
+    return high.x | (high.y << 10u) | (high.z << 20u);
 }
 
 // PerfectHash::find: the block of the cell with key k, or 0xffffffff.
@@ -107,8 +116,13 @@ fn find(k: vec3<u32>) -> u32 {
     let w = max(e.y >> 16u, 1u);
     let m = P.m;
     let s = ((k % vec3<u32>(w)) + t) % vec3<u32>(m);
-    let h = table[s.x + m * (s.y + m * s.z)];
-    return select(0xffffffffu, h.y, h.x == key_id(k));
+    let slot = s.x + m * (s.y + m * s.z);
+    let h = table[slot];
+    var high = 0u;
+    if P.wide == 1u {
+        high = high_ids[slot];
+    }
+    return select(0xffffffffu, h.y, h.x == key_id(k) && high == key_high_id(k));
 }
 
 // Adf::probe: the block of the level-`level` cell holding fine coordinates q.

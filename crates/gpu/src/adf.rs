@@ -39,7 +39,8 @@ struct Params {
     run: u32,
     texel_count: u32,
     normals: u32,
-    _pad: [u32; 2],
+    wide: u32,
+    _pad: u32,
 }
 
 /// `MarchAnswer` of adf.wgsl.
@@ -81,6 +82,8 @@ pub struct GpuAdf {
     ctx: Arc<GpuContext>,
     texels: wgpu::Buffer,
     table: wgpu::Buffer,
+    /// H's second identifier words (one zero word for trees of level 10 or less).
+    high: wgpu::Buffer,
     phi: wgpu::Buffer,
     bounds: wgpu::Buffer,
     params: Params,
@@ -106,6 +109,7 @@ impl GpuAdf {
         let none = wgpu::BufferUsages::empty();
         let texels = buffer::storage(&ctx, "ADF voxel texture", voxels.texels(), none)?;
         let table = buffer::storage(&ctx, "ADF cell table H", hash.entries(), none)?;
+        let high = buffer::storage(&ctx, "ADF cell table H, second identifier words", hash.high_ids(), none)?;
         let phi = buffer::storage(&ctx, "ADF offset table Φ", hash.offsets(), none)?;
         let bounds = buffer::storage(&ctx, "ADF cell bounds", adf.cell_lipschitz(), none)?;
         let cube = adf.cube();
@@ -128,18 +132,19 @@ impl GpuAdf {
             run: 1,
             texel_count: voxels.texels().len() as u32,
             normals: 0,
-            _pad: [0; 2],
+            wide: !hash.high_ids().is_empty() as u32,
+            _pad: 0,
         };
         let src = shader::assemble(ctx.precision(), 1, &[shader::ADF]);
         let mut ps = kernel::compile(&ctx, "distance field", &src, &["adf_march", "adf_locate"])?;
         let locate = ps.pop().expect("two entry points");
         let march = ps.pop().expect("two entry points");
-        Ok(Self { ctx, texels, table, phi, bounds, params, march, locate })
+        Ok(Self { ctx, texels, table, high, phi, bounds, params, march, locate })
     }
 
     /// Bytes of the device's tables.
     pub fn memory_bytes(&self) -> u64 {
-        self.texels.size() + self.table.size() + self.phi.size() + self.bounds.size()
+        self.texels.size() + self.table.size() + self.high.size() + self.phi.size() + self.bounds.size()
     }
 
     /// The device it lives on.
@@ -160,7 +165,14 @@ impl GpuAdf {
             };
             let mut answers = vec![Answer::zeroed(); chunk.len()];
             let ray_buf = buffer::storage(&self.ctx, "rays", chunk, wgpu::BufferUsages::empty())?;
-            let entries = [(0, &self.texels), (1, &self.table), (2, &self.phi), (3, &self.bounds), (5, &ray_buf)];
+            let entries = [
+                (0, &self.texels),
+                (1, &self.table),
+                (2, &self.phi),
+                (3, &self.bounds),
+                (5, &ray_buf),
+                (9, &self.high),
+            ];
             self.run(&self.march, &params, &entries, 6, chunk.len() as u32, &mut answers)?;
             out.extend(answers.iter().map(|a| GpuMarch {
                 t: (a.found != 0).then_some(a.t),
@@ -184,7 +196,7 @@ impl GpuAdf {
             let params = Params { count: chunk.len() as u32, search: search_code(search), run, ..self.params };
             let mut located = vec![[0u32; 4]; chunk.len()];
             let point_buf = buffer::storage(&self.ctx, "points", &padded, wgpu::BufferUsages::empty())?;
-            let entries = [(1, &self.table), (2, &self.phi), (7, &point_buf)];
+            let entries = [(1, &self.table), (2, &self.phi), (7, &point_buf), (9, &self.high)];
             self.run(&self.locate, &params, &entries, 8, chunk.len().div_ceil(run as usize) as u32, &mut located)?;
             out.extend(located.iter().map(|l| Located { level: l[0], block: l[1], probes: l[2] }));
         }

@@ -15,10 +15,16 @@ use rand::{rngs::SmallRng, Rng, SeedableRng};
 
 const SEARCHES: [Search; 3] = [Search::Linear, Search::Binary, Search::CoherentLinear];
 
-fn sphere_field() -> (Adf, TriangleMesh) {
+/// The unit sphere's field over its own box, or (`roomy`) a box 4 times its size, where
+/// deep trees stay small.
+fn sphere_field(max_level: u32, roomy: bool) -> (Adf, TriangleMesh) {
     let src = SphereSource { centre: Vec3::new(0.1, -0.2, 0.05), radius: 1.0 };
-    let b = Aabb::new(Vec3::new(-0.9, -1.2, -0.95), Vec3::new(1.1, 0.8, 1.05));
-    let adf = Adf::build(&src, b, &BuildParams { max_level: 7, epsilon: 1e-3 }, &|_, _| {}).expect("sphere field");
+    let b = if roomy {
+        Aabb::new(Vec3::splat(-4.0), Vec3::splat(4.0))
+    } else {
+        Aabb::new(Vec3::new(-0.9, -1.2, -0.95), Vec3::new(1.1, 0.8, 1.05))
+    };
+    let adf = Adf::build(&src, b, &BuildParams { max_level, epsilon: 1e-3 }, &|_, _| {}).expect("sphere field");
     // A box-shaped stand-in mesh: only its bounds are used, to aim the rays.
     let mesh =
         TriangleMesh::new(vec![b.min.to_array(), b.max.to_array(), [b.min.x, b.max.y, b.max.z]], vec![[0, 1, 2]]);
@@ -129,16 +135,22 @@ fn check_march(adf: &Adf, rays: &[Ray], label: &str) {
 
 #[test]
 fn point_location_on_the_device_equals_the_cpu() {
-    let (sphere, _) = sphere_field();
+    let (sphere, _) = sphere_field(7, false);
     check_locate(&sphere, "sphere level 7");
+    // Past level 10 H has a second identifier word per slot: the device reads it too.
+    let (deep, _) = sphere_field(11, true);
+    assert!(!deep.hash().high_ids().is_empty());
+    check_locate(&deep, "sphere level 11");
     let (bunny, _) = bunny_field();
     check_locate(&bunny, "bunny level 6");
 }
 
 #[test]
 fn sphere_tracing_on_the_device_agrees_with_the_cpu() {
-    let (sphere, box_mesh) = sphere_field();
+    let (sphere, box_mesh) = sphere_field(7, false);
     check_march(&sphere, &support::random_rays(&box_mesh, 6_000, 11), "sphere level 7");
+    let (deep, _) = sphere_field(11, true);
+    check_march(&deep, &support::random_rays(&box_mesh, 2_000, 14), "sphere level 11");
     let (bunny, mesh) = bunny_field();
     let mut rays = support::random_rays(&mesh, 6_000, 12);
     rays.extend(support::adversarial_rays(&mesh, 2_000, 13));

@@ -16,7 +16,7 @@ use crate::progress::progress_bar;
 use crate::report::{median, FieldRun, SearchCost, Seed001Result};
 use crate::scenes::load_scenes;
 use anyhow::{Context, Result};
-use dynray_adf::{key_of_id, Adf, BuildParams, DistanceSource, HashVariant, MeshSource, PerfectHash, Search};
+use dynray_adf::{Adf, BuildParams, DistanceSource, HashVariant, MeshSource, PerfectHash, Search};
 use dynray_geom::{Ray, TriangleMesh, Vec3};
 use dynray_gpu::GpuAdf;
 use dynray_render::CameraRays;
@@ -192,7 +192,7 @@ fn measure_cpu(
     let info = adf.info();
     let hash = adf.hash();
     // The seed's claim: the original hash fails on deep trees. The same keys, w = m̄.
-    let keys: Vec<[u32; 3]> = hash.entries().iter().filter(|e| e.id != 0).map(|e| key_of_id(e.id)).collect();
+    let keys = hash.keys();
     let t = std::time::Instant::now();
     let plain = PerfectHash::generate(&keys, HashVariant::LefebvreHoppe);
     let lefebvre_hoppe_ms = crate::measure::ms(t);
