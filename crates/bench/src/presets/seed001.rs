@@ -77,9 +77,9 @@ pub fn run(config: &BenchConfig, gpu: Option<&GpuSession>, notes: &mut Vec<Strin
             let params = BuildParams { max_level: level, epsilon: EPSILON };
             let (adf, _) =
                 Adf::from_mesh(mesh, &params, &|_, _| {}).with_context(|| format!("seed001: {name} level {level}"))?;
-            let mut run = measure_cpu(config, name, mesh, &adf, &rays, &exact, points)?;
+            let (mut run, cpu_answers) = measure_cpu(config, name, mesh, &adf, &rays, &exact, points)?;
             if let Some(g) = gpu {
-                match measure_gpu(config, g, &adf, &rays, points, &mut run) {
+                match measure_gpu(config, g, &adf, (&rays, &cpu_answers), points, &mut run) {
                     Ok(()) => {}
                     Err(e) => notes.push(format!("seed001: {name} level {level} on the GPU: {e:#}")),
                 }
@@ -144,7 +144,7 @@ fn measure_cpu(
     rays: &[Ray],
     exact: &MeshSource,
     points: usize,
-) -> Result<FieldRun> {
+) -> Result<(FieldRun, Vec<Option<f32>>)> {
     let repeat = config.repeat.max(1);
     let pts = random_points(adf, points);
     let mut locate_cpu = Vec::new();
@@ -162,6 +162,9 @@ fn measure_cpu(
     }
     let mut march_cpu = Vec::new();
     let mut hits = 0;
+    // The coherent search's answers (every search gives the same), which the device's
+    // are compared with.
+    let mut answers = Vec::new();
     for (search, label) in SEARCHES {
         let (times, stats) =
             warm_then_timed(repeat, || Ok(rays.par_iter().map(|r| adf.march_with(r, search)).collect::<Vec<_>>()))?;
@@ -169,6 +172,7 @@ fn measure_cpu(
         let probes: u64 = stats.iter().map(|s| s.probes as u64).sum();
         hits = stats.iter().filter(|s| s.t.is_some()).count();
         march_cpu.push(cost(label, median(&times), samples, probes, rays.len() as u64));
+        answers = stats.iter().map(|s| s.t).collect();
     }
 
     let eps = adf.epsilon() as f64;
@@ -196,7 +200,7 @@ fn measure_cpu(
     let t = std::time::Instant::now();
     let plain = PerfectHash::generate(&keys, HashVariant::LefebvreHoppe);
     let lefebvre_hoppe_ms = crate::measure::ms(t);
-    Ok(FieldRun {
+    let run = FieldRun {
         scene: name.to_string(),
         triangles: mesh.triangle_count(),
         max_level: adf.max_level(),
@@ -221,14 +225,15 @@ fn measure_cpu(
         error_cube: error_figures(errors(&in_cube)),
         error_near: error_figures(near_errors),
         within_epsilon_near: within,
-    })
+    };
+    Ok((run, answers))
 }
 
 fn measure_gpu(
     config: &BenchConfig,
     gpu: &GpuSession,
     adf: &Adf,
-    rays: &[Ray],
+    (rays, cpu): (&[Ray], &[Option<f32>]),
     points: usize,
     run: &mut FieldRun,
 ) -> Result<()> {
@@ -240,7 +245,6 @@ fn measure_gpu(
         let probes: u64 = located.iter().map(|l| l.probes as u64).sum();
         run.locate_gpu.push(cost(label, median(&times), pts.len() as u64, probes, pts.len() as u64));
     }
-    let cpu: Vec<Option<f32>> = rays.par_iter().map(|r| adf.march_with(r, Search::CoherentLinear).t).collect();
     for (search, label) in SEARCHES {
         let (times, marched) = warm_then_timed(repeat, || Ok(device.march(rays, search, false)?))?;
         let samples: u64 = marched.iter().map(|m| m.samples as u64).sum();
