@@ -60,6 +60,7 @@ pub mod octree;
 mod registry;
 mod spec;
 pub mod structure_params;
+pub mod two_level;
 pub mod update;
 pub mod wbvh;
 
@@ -77,5 +78,6 @@ pub use octree::{Octree, OctreeDescent, OctreeParams};
 pub use registry::AccelKind;
 pub use spec::{AccelSpec, BruteParams};
 pub use structure_params::{ParamKey, StructureParams};
+pub use two_level::{ActorGeometry, ActorMotion, LiveScene, PartUpdates, SceneLayout, TwoLevel};
 pub use update::{LiveAccel, UpdateAction, UpdatePolicy, UpdateReport};
 pub use wbvh::{Wbvh, WbvhParams};

@@ -93,6 +93,9 @@ pub enum UpdateAction {
     /// Built afresh (by policy, because the structure cannot refit, or because `auto`
     /// found the refit tree too costly).
     Rebuilt,
+    /// Only instances moved: their parts were kept and the top level rebuilt
+    /// ([`crate::LiveScene`]).
+    Moved,
 }
 
 impl UpdateAction {
@@ -102,6 +105,7 @@ impl UpdateAction {
             UpdateAction::Kept => "kept",
             UpdateAction::Refit => "refit",
             UpdateAction::Rebuilt => "rebuilt",
+            UpdateAction::Moved => "moved",
         }
     }
 }
@@ -166,6 +170,16 @@ impl LiveAccel {
     /// The policy.
     pub fn policy(&self) -> UpdatePolicy {
         self.policy
+    }
+
+    /// The triangles the structure was last built or updated on.
+    pub fn mesh(&self) -> TriangleMesh {
+        TriangleMesh::new(self.positions.clone(), self.indices.clone())
+    }
+
+    /// How many triangles it holds.
+    pub fn triangle_count(&self) -> usize {
+        self.indices.len()
     }
 
     /// Brings the structure to `mesh`, the next frame of the same scene (same triangles,
