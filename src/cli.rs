@@ -2,7 +2,7 @@
 
 use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::{Args, Parser, Subcommand};
-use dynray_accel::{AccelSpec, UpdatePolicy};
+use dynray_accel::{AccelSpec, SceneLayout, UpdatePolicy};
 use dynray_bench::trace_rays::HitField;
 use dynray_bench::{BenchConfig, Preset, RayKind};
 use dynray_gpu::{Backend, GpuBuild, GpuOptions, GpuStrategy};
@@ -148,6 +148,11 @@ pub struct RenderArgs {
     /// "Structure parameters").
     #[arg(long, default_value = "bvh", value_parser = parse_accel)]
     pub accel: AccelSpec,
+    /// How an animated scene's actors are spread over structures (as `animate`'s option,
+    /// so `render --frame K` draws what `animate` draws for frame K).
+    #[arg(long, default_value = "instanced", value_parser = PossibleValuesParser::new(SceneLayout::NAMES)
+        .map(|s| s.parse::<SceneLayout>().expect("listed names parse")))]
+    pub scene_accel: SceneLayout,
     /// How pixel samples are computed.
     #[arg(long, default_value = "whitted", value_parser = PossibleValuesParser::new(IntegratorKind::NAMES)
         .map(|s| s.parse::<IntegratorKind>().expect("listed names parse")))]
@@ -251,6 +256,13 @@ pub struct AnimateArgs {
     /// (refit until the SAH cost exceeds RATIO × a fresh build's; default 1.3).
     #[arg(long, default_value = "auto", value_parser = |s: &str| s.parse::<UpdatePolicy>())]
     pub update: UpdatePolicy,
+    /// How an animated scene's actors are spread over structures: `instanced` (static
+    /// actors built once, deforming ones refit or rebuilt, rigid ones as instances under
+    /// a top-level BVH), `split` (the same, rigid actors held like deforming ones), or
+    /// `flat` (one structure over the frame). docs/animate.md, "Scene layouts".
+    #[arg(long, default_value = "instanced", value_parser = PossibleValuesParser::new(SceneLayout::NAMES)
+        .map(|s| s.parse::<SceneLayout>().expect("listed names parse")))]
+    pub scene_accel: SceneLayout,
     /// Image width in pixels (overrides the scene's settings).
     #[arg(long, value_parser = edge_parser())]
     pub width: Option<u32>,

@@ -223,3 +223,39 @@ fn trace_rays_answers_for_the_geometry_at_the_time_asked() {
     }
     assert_ne!(prims_at[0], prims_at[1], "the legs did not move between 0 s and 1 s");
 }
+
+/// BART's robots: a static room and 221 rigidly moving parts. The split layout is the
+/// flat one bit for bit (world-space parts, exact hits); the instanced one moves
+/// instances only after the first frame, and `render --frame K` draws its frame K.
+#[test]
+fn scene_layouts_of_the_robots() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = scenes_dir().join("bart/robot/aff/Robot.aff");
+    let s = scene.to_str().unwrap();
+    let size = ["--width", "64", "--height", "48", "--spp", "1"];
+    let run = |layout: &str| {
+        let out = tmp.path().join(layout);
+        let o = ok(dynray(
+            &[&["animate", s, "--out", out.to_str().unwrap(), "--frames", "0..2", "--scene-accel", layout][..], &size]
+                .concat(),
+        ));
+        (out, String::from_utf8_lossy(&o.stderr).into_owned())
+    };
+    let (flat, flat_log) = run("flat");
+    let (split, split_log) = run("split");
+    let (inst, inst_log) = run("instanced");
+    assert!(flat_log.contains("flat"), "{flat_log}");
+    assert!(split_log.contains("split: 221 parts, 221 instances"), "{split_log}");
+    assert!(inst_log.contains("instanced: 23 parts, 221 instances"), "{inst_log}");
+    assert_eq!(frames_in(&flat), frames_in(&split), "the split layout must draw the flat one's frames");
+    assert_eq!(frames_in(&inst).len(), 3);
+    let timings = std::fs::read_to_string(inst.join("timings.csv")).unwrap();
+    let actions: Vec<&str> = timings.lines().skip(1).map(|l| l.split(',').nth(3).unwrap()).collect();
+    assert_eq!(actions, ["rebuilt", "moved", "moved"], "{timings}");
+    let one = tmp.path().join("one.png");
+    ok(dynray(&[&["render", s, "-o", one.to_str().unwrap(), "--frame", "2"][..], &size].concat()));
+    assert_eq!(std::fs::read(&one).unwrap(), std::fs::read(inst.join("frame_0002.png")).unwrap());
+    let o = dynray(&[&["render", s, "-o", one.to_str().unwrap(), "--scene-accel", "layered"][..], &size].concat());
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("layered"));
+}

@@ -173,6 +173,52 @@ fn check_report(r: &Value) -> Vec<String> {
         }
         _ => p.push("dynamic: missing or empty".into()),
     }
+    // Layouts and policies (quick: the small carousel and BART's robots, every structure
+    // in both layouts, the refitting ones under three policies).
+    match r["dynamic"]["layouts"].as_array() {
+        Some(runs) if !runs.is_empty() => {
+            for run in runs {
+                let what =
+                    format!("dynamic layouts {} {} {} {}", run["scene"], run["accel"], run["layout"], run["policy"]);
+                for series in ["update_ms", "trace_ms", "time_to_image_ms", "actions", "cost_ratio"] {
+                    let n = run[series].as_array().map_or(0, |v| v.len());
+                    need(&mut p, n == frames, format!("{what}: {series} has {n} of {frames} frames"));
+                }
+                let actions = run["actions"].as_array().cloned().unwrap_or_default();
+                need(
+                    &mut p,
+                    actions.iter().all(|a| matches!(a.as_str(), Some("kept" | "refit" | "rebuilt" | "moved"))),
+                    format!("{what}: actions {actions:?}"),
+                );
+                need(&mut p, run["verified"].as_u64().is_some_and(|n| n > 0), format!("{what}: nothing verified"));
+                need(
+                    &mut p,
+                    matches!(run["layout"].as_str(), Some("flat" | "instanced")),
+                    format!("{what}: unknown layout"),
+                );
+            }
+            // The carousel's eight moving copies share one part: instances only move.
+            let carousel = runs.iter().find(|r| {
+                r["scene"] == "carousel-small"
+                    && r["accel"] == "bvh"
+                    && r["layout"] == "instanced"
+                    && r["policy"] == "refit"
+            });
+            match carousel {
+                Some(c) => {
+                    need(
+                        &mut p,
+                        c["parts"] == 2 && c["instances"] == 9,
+                        format!("carousel: {} parts, {} instances", c["parts"], c["instances"]),
+                    );
+                    let moved = c["actions"].as_array().map_or(0, |a| a.iter().filter(|x| *x == "moved").count());
+                    need(&mut p, moved + 1 == frames, format!("carousel: {moved} frames of moved instances"));
+                }
+                None => p.push("dynamic layouts: no instanced bvh run of carousel-small".into()),
+            }
+        }
+        _ => p.push("dynamic layouts: missing or empty".into()),
+    }
     p
 }
 
@@ -390,6 +436,7 @@ fn quick_bench_of_every_preset_writes_a_complete_consistent_report() {
     bad["path"]["scenes"][0]["convergence"].as_array_mut().unwrap().remove(1);
     bad["seed001"]["runs"][0]["bytes"][0] = 1.into();
     bad["seed000_physics"]["runs"][2]["render_ms"][0] = 1e9.into();
+    bad["dynamic"]["layouts"][0]["actions"][1] = "teleported".into();
     let found = check_report(&bad).join("\n");
     for what in [
         "inconsistent ratio",
@@ -401,6 +448,7 @@ fn quick_bench_of_every_preset_writes_a_complete_consistent_report() {
         "convergence spp",
         "do not add up",
         "time to image does not add up",
+        ": actions",
     ] {
         assert!(found.contains(what), "checker missed `{what}`:\n{found}");
     }
@@ -414,6 +462,7 @@ fn quick_bench_of_every_preset_writes_a_complete_consistent_report() {
         "## seed004",
         "### seed004: cumulative",
         "## Preset dynamic",
+        "### Scene layouts and update policies",
         "## Preset path",
     ] {
         assert!(md.contains(heading), "report.md lacks {heading}");
@@ -437,6 +486,7 @@ fn quick_bench_of_every_preset_writes_a_complete_consistent_report() {
         "seed003-speedup",
         "seed004-speedup",
         "dynamic",
+        "dynamic-layouts",
     ] {
         assert!(out.path().join(format!("{chart}.svg")).is_file(), "{chart}.svg missing");
     }

@@ -53,7 +53,7 @@ pub fn run(a: AnimateArgs) -> Result<()> {
         bail!("{label}: scenes with `adf` blocks render on the CPU only; drop --backend gpu");
     }
     let mut tracer = match a.backend.gpu_options() {
-        None => Tracer::cpu(&a.accel, a.update),
+        None => Tracer::cpu(&a.accel, a.update, a.scene_accel),
         Some(gpu) => {
             let choice = GpuChoice { options: &gpu, build: a.backend.gpu_build, strategy: a.gpu_strategy };
             Tracer::gpu(&a.accel, a.update, &options, choice).with_context(|| label.clone())?
@@ -94,7 +94,7 @@ pub fn run(a: AnimateArgs) -> Result<()> {
             frame.settings.height = h;
         }
         let pose = t0.elapsed();
-        let report = tracer.update(&frame).with_context(|| format!("{label}: frame {k}"))?;
+        let report = tracer.update(&scene, &frame).with_context(|| format!("{label}: frame {k}"))?;
         let t1 = Instant::now();
         let (film, stats) = tracer.render(&frame, &fields, &options).with_context(|| format!("{label}: frame {k}"))?;
         let render_time = t1.elapsed();

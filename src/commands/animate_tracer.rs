@@ -13,18 +13,21 @@
 
 use super::fields::{render, Fields};
 use anyhow::{bail, Context, Result};
-use dynray_accel::{Accel, AccelKind, AccelSpec, Bvh, BvhParams, LiveAccel, UpdateAction, UpdatePolicy, UpdateReport};
+use dynray_accel::{
+    Accel, AccelKind, AccelSpec, Bvh, BvhParams, LiveAccel, LiveScene, SceneLayout, UpdateAction, UpdatePolicy,
+    UpdateReport,
+};
 use dynray_gpu::{GpuBuild, GpuBvh, GpuContext, GpuOptions, GpuRenderOptions, GpuRenderer, GpuStrategy};
 use dynray_render::{Film, IntegratorKind, RenderOptions, RenderStats};
-use dynray_scene::Frame;
+use dynray_scene::{Frame, Scene};
 use std::any::Any;
 use std::sync::Arc;
 use std::time::Instant;
 
 /// The tracer of an animation.
 pub enum Tracer {
-    /// The CPU: the structure (built on the first frame) and the render loop.
-    Cpu { spec: AccelSpec, policy: UpdatePolicy, live: Option<LiveAccel> },
+    /// The CPU: the structures (built on the first frame) and the render loop.
+    Cpu { spec: AccelSpec, policy: UpdatePolicy, layout: SceneLayout, live: Option<LiveScene> },
     /// The GPU.
     Gpu(Box<GpuTracer>),
 }
@@ -66,8 +69,8 @@ pub struct GpuChoice<'a> {
 
 impl Tracer {
     /// The CPU tracer.
-    pub fn cpu(spec: &AccelSpec, policy: UpdatePolicy) -> Self {
-        Tracer::Cpu { spec: spec.clone(), policy, live: None }
+    pub fn cpu(spec: &AccelSpec, policy: UpdatePolicy, layout: SceneLayout) -> Self {
+        Tracer::Cpu { spec: spec.clone(), policy, layout, live: None }
     }
 
     /// The GPU tracer (a BVH; `options` must ask for an integrator the GPU has:
@@ -98,10 +101,10 @@ impl Tracer {
         })))
     }
 
-    /// Brings the structure up to `frame` (built on the first call).
-    pub fn update(&mut self, frame: &Frame) -> Result<UpdateReport> {
+    /// Brings the structure up to `frame`, which `scene` filled (built on the first call).
+    pub fn update(&mut self, scene: &Scene, frame: &Frame) -> Result<UpdateReport> {
         match self {
-            Tracer::Cpu { spec, policy, live } => cpu_update(live, spec, *policy, frame),
+            Tracer::Cpu { spec, policy, layout, live } => scene_update(live, spec, (*policy, *layout), scene, frame),
             Tracer::Gpu(g) if g.build == GpuBuild::Cpu => cpu_update(&mut g.live, &g.spec, g.policy, frame),
             Tracer::Gpu(g) => g.device_update(frame),
         }
@@ -142,7 +145,10 @@ impl Tracer {
     /// The structure and where it runs, for the summary line.
     pub fn describe(&self) -> String {
         match self {
-            Tracer::Cpu { spec, policy, .. } => format!("{spec} {policy}"),
+            Tracer::Cpu { spec, policy, live, .. } => match live {
+                Some(l) => format!("{spec} {policy}, {}", l.describe()),
+                None => format!("{spec} {policy}"),
+            },
             Tracer::Gpu(g) => {
                 format!("{} {} on {} ({} build, {})", g.spec, g.policy, g.ctx.adapter().name, g.build, g.strategy)
             }
@@ -164,7 +170,30 @@ pub fn gpu_branch_depth(options: &RenderOptions, strategy: GpuStrategy) -> Resul
     }
 }
 
-/// The CPU structure's update: built on the first frame, then its policy.
+/// The CPU structures' update: built on the first frame in the layout, then the policy.
+fn scene_update(
+    live: &mut Option<LiveScene>,
+    spec: &AccelSpec,
+    (policy, layout): (UpdatePolicy, SceneLayout),
+    scene: &Scene,
+    frame: &Frame,
+) -> Result<UpdateReport> {
+    match live {
+        None => {
+            let (built, time) = dynray_render::build_live_scene(spec, policy, layout, scene, frame)
+                .with_context(|| format!("cannot build {spec}"))?;
+            *live = Some(built);
+            Ok(UpdateReport { action: UpdateAction::Rebuilt, time, cost_ratio: Some(1.0) })
+        }
+        Some(l) => {
+            let actors = dynray_render::actor_geometry(scene, frame);
+            l.update(&actors, &frame.mesh, Some(frame.camera.position)).with_context(|| format!("cannot update {spec}"))
+        }
+    }
+}
+
+/// The GPU tracer's CPU-built BVH (`--gpu-build cpu`): built on the first frame, then its
+/// policy, over the whole frame (the device traces one tree).
 fn cpu_update(
     live: &mut Option<LiveAccel>,
     spec: &AccelSpec,

@@ -4,12 +4,12 @@ use super::fields::{render, render_aov, Fields};
 use super::thousands;
 use crate::cli::RenderArgs;
 use anyhow::{bail, Context, Result};
-use dynray_accel::{AccelKind, Bvh};
+use dynray_accel::{AccelKind, Bvh, UpdatePolicy};
 use dynray_adf::AdfGeometry;
 use dynray_gpu::{GpuBuild, GpuBvh, GpuContext, GpuOptions, GpuRenderOptions, GpuRenderer};
 use dynray_render::{
-    render_with, write_aov, write_image, AovIntegrator, IntegratorKind, IntegratorParams, OutputFormat, RenderOptions,
-    SceneIntersector,
+    build_live_scene, render_with, write_aov, write_image, AovIntegrator, IntegratorKind, IntegratorParams,
+    OutputFormat, RenderOptions, SceneIntersector,
 };
 use dynray_scene::{Camera, Frame, Shading};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -111,12 +111,15 @@ pub fn run(a: RenderArgs) -> Result<()> {
     if let Some(gpu) = a.backend.gpu_options() {
         return render_on_gpu(&a, &frame, &label, (spp, passes, params), &gpu);
     }
-    let t0 = Instant::now();
-    let accel = a
-        .accel
-        .build(&frame.mesh, Some(frame.camera.position))
+    // The same layout `animate` uses, so `render --frame K` draws its frame K (a frame
+    // without moving actors is one structure whatever the layout).
+    let (live, build) = build_live_scene(&a.accel, UpdatePolicy::default(), a.scene_accel, &scene, &frame)
         .with_context(|| format!("{label}: cannot build {}", a.accel))?;
-    let build = t0.elapsed();
+    let accel = live.accel();
+    let structure = match live.two_level() {
+        Some(_) => format!("{} ({})", accel.name(), live.describe()),
+        None => accel.name().to_string(),
+    };
 
     let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::hidden());
     bar.set_style(ProgressStyle::with_template("{bar:40} {percent:>3}% {elapsed} (eta {eta})").unwrap());
@@ -140,7 +143,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
     };
     let t1 = Instant::now();
     if let Some(aov) = a.aov {
-        let film = render_aov(&frame, accel.as_ref(), &fields, aov, &options);
+        let film = render_aov(&frame, accel, &fields, aov, &options);
         let trace = t1.elapsed();
         bar.finish_and_clear();
         write_aov(&film, aov, &a.output)?;
@@ -148,7 +151,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
             "{label}: {} triangles{}, {} build {:.1} ms, {aov} AOV {:.1} ms ({}x{}) -> {}",
             thousands(frame.mesh.triangle_count()),
             fields.describe(&frame),
-            accel.name(),
+            structure,
             build.as_secs_f64() * 1e3,
             trace.as_secs_f64() * 1e3,
             film.width(),
@@ -157,7 +160,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         );
         return Ok(());
     }
-    let (film, stats) = render(&frame, accel.as_ref(), &fields, &options);
+    let (film, stats) = render(&frame, accel, &fields, &options);
     let trace = t1.elapsed();
     bar.finish_and_clear();
     write_image(&film, &a.output)?;
@@ -168,7 +171,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         "{label}: {} triangles{}, {} build {:.1} ms, {} render {:.1} ms ({}x{}, {samples}, {} rays, {:.2} Mrays/s) -> {}",
         thousands(frame.mesh.triangle_count()),
         fields.describe(&frame),
-        accel.name(),
+        structure,
         build.as_secs_f64() * 1e3,
         a.integrator,
         secs * 1e3,

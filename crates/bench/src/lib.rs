@@ -4,6 +4,7 @@
 //! `report.json`, charts and heat maps (docs/bench.md describes all of it).
 #![deny(missing_docs)]
 
+pub mod carousel;
 pub mod charts;
 #[cfg(feature = "compare")]
 pub mod compare;

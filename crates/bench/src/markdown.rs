@@ -284,6 +284,10 @@ pub fn render(r: &Report, png: bool) -> String {
         if d.runs.iter().any(|r| r.refits) {
             let _ = writeln!(s, "![refit drift](dynamic-drift.{ext})\n");
         }
+        if !d.layouts.is_empty() {
+            crate::presets::dynamic_layouts::markdown(&d.layouts, &mut s);
+            let _ = writeln!(s, "\n![scene layouts](dynamic-layouts.{ext})\n");
+        }
     }
     s
 }

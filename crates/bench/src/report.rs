@@ -519,6 +519,49 @@ pub struct DynamicResult {
     pub height: u32,
     /// One entry per scene × structure.
     pub runs: Vec<DynamicRun>,
+    /// Scene layouts and update policies on the animated scenes
+    /// (`presets::dynamic_layouts`); empty in reports written before it.
+    #[serde(default)]
+    pub layouts: Vec<LayoutRun>,
+}
+
+/// One structure in one scene layout under one update policy, over an animated scene.
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+pub struct LayoutRun {
+    /// Scene name.
+    pub scene: String,
+    /// Triangles per frame.
+    pub triangles: usize,
+    /// Structure (of every part).
+    pub accel: String,
+    /// `flat` or `instanced` (`flat` also where the scene had nothing moving).
+    pub layout: String,
+    /// `rebuild`, `refit` or `auto`.
+    pub policy: String,
+    /// Bottom-level structures (1 when flat).
+    pub parts: usize,
+    /// Instances under the top level (1 when flat).
+    pub instances: usize,
+    /// Per frame: the update, ms.
+    pub update_ms: Vec<f64>,
+    /// Per frame: what the update did (`kept`, `refit`, `rebuilt`, `moved`).
+    pub actions: Vec<String>,
+    /// Per frame: the worst part's SAH cost over its last fresh build (`auto` only).
+    pub cost_ratio: Vec<Option<f64>>,
+    /// Per frame: primary rays, ms.
+    pub trace_ms: Vec<f64>,
+    /// Per frame: update + Whitted render, ms.
+    pub time_to_image_ms: Vec<f64>,
+    /// Median update.
+    pub median_update_ms: f64,
+    /// Median primary trace.
+    pub median_trace_ms: f64,
+    /// Median time to image.
+    pub median_time_to_image_ms: f64,
+    /// Frames in which something was rebuilt.
+    pub rebuilds: usize,
+    /// Rays checked against the layout's oracle.
+    pub verified: usize,
 }
 
 /// One structure animated over one scene.

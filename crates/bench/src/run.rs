@@ -155,6 +155,10 @@ fn write_charts(config: &BenchConfig, report: &Report) -> Result<()> {
     }
     if let Some(d) = &report.dynamic {
         charts::save(&presets::dynamic::chart(d), out, "dynamic", config.png)?;
+        if !d.layouts.is_empty() {
+            let c = presets::dynamic_layouts::chart(&d.layouts, d.width, d.height);
+            charts::save(&c, out, "dynamic-layouts", config.png)?;
+        }
         if d.runs.iter().any(|r| r.refits) {
             charts::save(&presets::dynamic::drift_chart(d), out, "dynamic-drift", config.png)?;
         }

@@ -59,6 +59,7 @@ pub fn scenes_dir(explicit: Option<&Path>) -> Option<PathBuf> {
 fn known_names() -> String {
     let mut names: Vec<&str> = KNOWN_SCENES.iter().map(|(n, _)| *n).collect();
     names.push(DEMO);
+    names.extend(crate::carousel::NAMES.iter().map(|(n, _)| *n));
     names.join(", ")
 }
 
@@ -116,12 +117,32 @@ pub fn load(name: &str, path: &Path) -> Result<BenchScene> {
 /// Loads the scenes named in `names` (model names, files, or `demo`).
 pub fn load_scenes(names: &[String], dir: Option<&Path>) -> Result<Vec<BenchScene>> {
     let dir = scenes_dir(dir);
-    // Resolve every name before loading any, so a typo fails at once.
+    // Resolve every name before loading any, so a typo fails at once (a carousel names
+    // its model's file).
+    let carousel = |n: &str| crate::carousel::NAMES.iter().find(|(c, _)| *c == n).map(|(_, model)| *model);
     let resolved: Vec<Option<(String, PathBuf)>> = names
         .iter()
-        .map(|n| if n == DEMO { Ok(None) } else { resolve(n, dir.as_deref()).map(Some) })
+        .map(|n| match (n.as_str(), carousel(n)) {
+            (DEMO, _) => Ok(None),
+            (_, Some(model)) => resolve(model, dir.as_deref()).map(|(_, p)| Some((n.clone(), p))),
+            _ => resolve(n, dir.as_deref()).map(Some),
+        })
         .collect::<Result<_>>()?;
-    resolved.iter().map(|r| r.as_ref().map_or_else(|| Ok(demo()), |(n, p)| load(n, p))).collect()
+    resolved
+        .iter()
+        .map(|r| match r {
+            None => Ok(demo()),
+            Some((n, p)) if carousel(n).is_some() => load_carousel(n, p),
+            Some((n, p)) => load(n, p),
+        })
+        .collect()
+}
+
+/// The carousel around the model file `model` (`crate::carousel`).
+fn load_carousel(name: &str, model: &Path) -> Result<BenchScene> {
+    let scene = crate::carousel::scene(model)?;
+    let frame = scene.frame(scene.animation.timeline.time_of(0));
+    Ok(BenchScene { name: name.to_string(), path: model.to_path_buf(), frame, animated: Some(scene) })
 }
 
 #[cfg(test)]

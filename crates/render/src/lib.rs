@@ -10,6 +10,7 @@
 #![deny(missing_docs)]
 #![forbid(unsafe_code)]
 
+mod actors;
 mod aov;
 mod camera;
 mod cumulative;
@@ -27,6 +28,7 @@ mod shadow;
 mod surface;
 mod whitted;
 
+pub use actors::{actor_geometry, build_live_scene};
 pub use aov::{Aov, AovIntegrator};
 pub use camera::{CameraBasis, CameraRays};
 pub use cumulative::{Cumulative, DEFAULT_BRANCH_DEPTH, MAX_LIVE_PATHS};

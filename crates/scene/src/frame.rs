@@ -43,6 +43,11 @@ pub struct Frame {
     /// `actor_ranges`: where a simulation (`dynray-sim`) writes an actor's deformed
     /// vertices.
     pub vertex_ranges: Vec<Range<u32>>,
+    /// `actor_states[a]` says how actor `a` was placed in this frame, for structures that
+    /// keep parts of a frame from one frame to the next (`dynray-accel`'s two-level
+    /// layouts): static actors are built once, rigid ones become instances of their local
+    /// mesh, deforming ones are refit or rebuilt.
+    pub actor_states: Vec<ActorState>,
     /// The scene's distance fields ([`Scene::distance_fields`]): not in `mesh`; whoever
     /// renders the frame loads them and intersects them beside it.
     pub distance_fields: Vec<FieldPlacement>,
@@ -71,10 +76,24 @@ impl Default for Frame {
             environment: Environment::default(),
             actor_ranges: Vec::new(),
             vertex_ranges: Vec::new(),
+            actor_states: Vec::new(),
             distance_fields: Vec::new(),
             time: 0.0,
         }
     }
+}
+
+/// How one actor's world geometry came about in a frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ActorState {
+    /// A [`crate::Motion::Static`] actor: the same world triangles in every frame.
+    Static,
+    /// A moving actor placed whole by this transform: its world vertices are the
+    /// transform applied to its local mesh ([`crate::Actor::mesh`]), bit for bit.
+    Rigid(Transform),
+    /// An actor whose vertices move on their own (a deformation: keys, morphs, skin; or a
+    /// simulated body, whose vertices the simulation writes into the frame).
+    Deforming,
 }
 
 impl Frame {
@@ -107,12 +126,13 @@ impl Scene {
     /// frame once dropped every actor's uvs then, and with them a textured mesh's
     /// texture); loaders give such actors untextured materials, so nothing samples them.
     pub fn frame_into(&self, t: f32, frame: &mut Frame) {
-        let Frame { mesh, materials_of, actor_ranges, vertex_ranges, .. } = frame;
+        let Frame { mesh, materials_of, actor_ranges, vertex_ranges, actor_states, .. } = frame;
         mesh.positions.clear();
         mesh.indices.clear();
         materials_of.clear();
         actor_ranges.clear();
         vertex_ranges.clear();
+        actor_states.clear();
         let any_normals = self.actors.iter().any(|a| a.mesh.normals.is_some());
         let any_uvs = self.actors.iter().any(|a| a.mesh.uvs.is_some());
         let mut normals = mesh.normals.take().unwrap_or_default();
@@ -191,6 +211,13 @@ impl Scene {
             }
             actor_ranges.push(first..mesh.indices.len() as u32);
             vertex_ranges.push(base..mesh.positions.len() as u32);
+            actor_states.push(if a.deform.is_some() || a.elastic.is_some() {
+                ActorState::Deforming
+            } else if a.motion == crate::Motion::Static {
+                ActorState::Static
+            } else {
+                ActorState::Rigid(placement)
+            });
         }
         mesh.normals = any_normals.then_some(normals);
         mesh.uvs = any_uvs.then_some(uvs);

@@ -27,7 +27,7 @@ pub use animation::{Animation, Timeline};
 pub use bsdf::{Bsdf, BsdfKind, Microfacet, Roughness};
 pub use error::LoadError;
 pub use field::FieldPlacement;
-pub use frame::Frame;
+pub use frame::{ActorState, Frame};
 pub use load::{load_file, load_file_report, load_file_unshaded, load_mesh, FileFormat};
 pub use model::{Camera, Clip, Color, Environment, Finish, Light, LightKind, Material, Projection, Scene, Settings};
 pub use physics::{ElasticParams, PhysicsSettings};

@@ -5,7 +5,8 @@
 //! structures that refit are also rebuilt from scratch each frame, so both costs, and the
 //! refit tree's drift from a fresh one, are known. Then primary rays are traced and a
 //! Whitted image rendered through the updated structure, and a sample of the primary rays
-//! is checked against brute force on the moved mesh.
+//! is checked against brute force on the moved mesh. A second part
+//! (`dynamic_layouts.rs`) follows animated scenes in each scene layout and update policy.
 
 use crate::config::BenchConfig;
 use crate::format::thousands;
@@ -164,7 +165,15 @@ pub fn run(config: &BenchConfig, accels: &[AccelSpec], mismatches: &mut Vec<Mism
         }
     }
     bar.finish_and_clear();
-    Ok(DynamicResult { frames, width, height, runs })
+    // Second part: layouts and policies on the animated scenes (those given, or the
+    // part's own defaults: BART, CesiumMan, the carousel).
+    let layout_scenes = if config.scenes.is_empty() {
+        load_scenes(&super::dynamic_layouts::default_scenes(config.quick), config.scenes_dir.as_deref())?
+    } else {
+        scenes
+    };
+    let layouts = super::dynamic_layouts::run(config, accels, &layout_scenes, (frames, width, height), mismatches)?;
+    Ok(DynamicResult { frames, width, height, runs, layouts })
 }
 
 /// Per-frame figures of one structure on one scene.

@@ -3,6 +3,7 @@
 //! tracer's measurements.
 
 pub mod dynamic;
+pub mod dynamic_layouts;
 pub mod path;
 pub mod seed000;
 pub mod seed000_physics;
