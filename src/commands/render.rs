@@ -116,9 +116,10 @@ pub fn run(a: RenderArgs) -> Result<()> {
     let (live, build) = build_live_scene(&a.accel, UpdatePolicy::default(), a.scene_accel, &scene, &frame)
         .with_context(|| format!("{label}: cannot build {}", a.accel))?;
     let accel = live.accel();
-    let structure = match live.two_level() {
-        Some(_) => format!("{} ({})", accel.name(), live.describe()),
-        None => accel.name().to_string(),
+    // The layout follows the build time, so the summary's "N triangles, bvh build" stays.
+    let layout = match live.two_level() {
+        Some(_) => format!(" ({})", live.describe()),
+        None => String::new(),
     };
 
     let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::hidden());
@@ -148,10 +149,10 @@ pub fn run(a: RenderArgs) -> Result<()> {
         bar.finish_and_clear();
         write_aov(&film, aov, &a.output)?;
         eprintln!(
-            "{label}: {} triangles{}, {} build {:.1} ms, {aov} AOV {:.1} ms ({}x{}) -> {}",
+            "{label}: {} triangles{}, {} build {:.1} ms{layout}, {aov} AOV {:.1} ms ({}x{}) -> {}",
             thousands(frame.mesh.triangle_count()),
             fields.describe(&frame),
-            structure,
+            accel.name(),
             build.as_secs_f64() * 1e3,
             trace.as_secs_f64() * 1e3,
             film.width(),
@@ -168,10 +169,10 @@ pub fn run(a: RenderArgs) -> Result<()> {
     let secs = trace.as_secs_f64().max(1e-9);
     let samples = if passes > 1 { format!("{spp} spp × {passes} passes") } else { format!("{spp} spp") };
     eprintln!(
-        "{label}: {} triangles{}, {} build {:.1} ms, {} render {:.1} ms ({}x{}, {samples}, {} rays, {:.2} Mrays/s) -> {}",
+        "{label}: {} triangles{}, {} build {:.1} ms{layout}, {} render {:.1} ms ({}x{}, {samples}, {} rays, {:.2} Mrays/s) -> {}",
         thousands(frame.mesh.triangle_count()),
         fields.describe(&frame),
-        structure,
+        accel.name(),
         build.as_secs_f64() * 1e3,
         a.integrator,
         secs * 1e3,

@@ -54,7 +54,7 @@ impl TwoLevel {
         mesh: &TriangleMesh,
         eye: Option<Vec3>,
     ) -> Result<TwoLevel, BuildError> {
-        check_actors(spec, actors, mesh)?;
+        check_actors(spec, actors, mesh, true)?;
         let mut tl = TwoLevel {
             spec: spec.clone(),
             parts: Vec::new(),
@@ -174,12 +174,14 @@ impl TwoLevel {
 }
 
 /// Actors must tile the frame: contiguous triangle and vertex ranges in order, each
-/// actor's indices inside its own vertex range, a rigid actor's local mesh of the same
-/// size as its frame triangles.
+/// actor's indices inside its own vertex range (checked when `indices` is set: at a
+/// build; the frames of one scene keep their triangles, and an update checks the ranges
+/// alone), a rigid actor's local mesh of the same size as its frame triangles.
 pub(crate) fn check_actors(
     spec: &AccelSpec,
     actors: &[ActorGeometry<'_>],
     mesh: &TriangleMesh,
+    indices: bool,
 ) -> Result<(), BuildError> {
     let (mut tri, mut vert) = (0u32, 0u32);
     for (i, a) in actors.iter().enumerate() {
@@ -197,7 +199,8 @@ pub(crate) fn check_actors(
             ));
         }
         let inside = |t: &[u32; 3]| t.iter().all(|v| a.vertices.contains(v));
-        if let Some(t) = mesh.indices[a.triangles.start as usize..tri as usize].iter().position(|t| !inside(t)) {
+        let own = &mesh.indices[a.triangles.start as usize..tri as usize];
+        if let Some(t) = if indices { own.iter().position(|t| !inside(t)) } else { None } {
             return Err(bad_actors(
                 spec,
                 format!("actor {i}: triangle {} uses a vertex of another actor", a.triangles.start as usize + t),

@@ -214,7 +214,7 @@ impl LiveScene {
 
 /// Whether `actors` hold the same roles, ranges and local meshes as when `tl` was built.
 fn same_shape(tl: &TwoLevel, actors: &[ActorGeometry<'_>], mesh: &TriangleMesh, layout: SceneLayout) -> bool {
-    if mesh.triangle_count() as u32 != tl.triangles || check_actors(tl.spec(), actors, mesh).is_err() {
+    if mesh.triangle_count() as u32 != tl.triangles || check_actors(tl.spec(), actors, mesh, false).is_err() {
         return false;
     }
     tl.parts.iter().all(|p| match &p.space {
