@@ -203,7 +203,8 @@ impl GpuRenderer {
     }
 
     /// Renders `frame` (size, camera, limits from its settings) traced through `bvh`,
-    /// built on `frame.mesh`, with the CPU Whitted integrator's shading.
+    /// built on `frame.mesh`, with the integrator `options` name (the CPU Whitted
+    /// integrator's shading, the cumulative tracer's or the path tracer's).
     pub fn render(&mut self, frame: &Frame, bvh: &Bvh, options: &GpuRenderOptions) -> Result<GpuRender, GpuError> {
         self.render_tree(frame, frame_upload::Tree::Host(bvh), options)
     }
