@@ -14,9 +14,7 @@
 use super::fields::{render, Fields};
 use anyhow::{bail, Context, Result};
 use dynray_accel::{Accel, AccelKind, AccelSpec, Bvh, BvhParams, LiveAccel, UpdateAction, UpdatePolicy, UpdateReport};
-use dynray_gpu::{
-    GpuBuild, GpuBvh, GpuContext, GpuIntegrator, GpuOptions, GpuRenderOptions, GpuRenderer, GpuStrategy,
-};
+use dynray_gpu::{GpuBuild, GpuBvh, GpuContext, GpuIntegrator, GpuOptions, GpuRenderOptions, GpuRenderer, GpuStrategy};
 use dynray_render::{Film, IntegratorKind, RenderOptions, RenderStats};
 use dynray_scene::Frame;
 use std::any::Any;

@@ -105,7 +105,9 @@ fn estimate(a: &Film, b: &Film) -> Estimate {
     let tiles = (0..8)
         .map(|ty| {
             (0..8)
-                .map(|tx| stats(&mut (ty * th..(ty + 1) * th).flat_map(|y| (tx * tw..(tx + 1) * tw).map(move |x| y * w + x))))
+                .map(|tx| {
+                    stats(&mut (ty * th..(ty + 1) * th).flat_map(|y| (tx * tw..(tx + 1) * tw).map(move |x| y * w + x)))
+                })
                 .collect()
         })
         .collect();
@@ -217,7 +219,13 @@ fn check_against_mitsuba(name: &str, frame: &Frame, reference: &Reference, spp: 
             reference.mean[k],
             rel * 100.0
         );
-        assert!(rel.abs() < 0.01, "{name} channel {k}: GPU mean {} vs Mitsuba {} ({:+.2} %)", e.mean[k], reference.mean[k], rel * 100.0);
+        assert!(
+            rel.abs() < 0.01,
+            "{name} channel {k}: GPU mean {} vs Mitsuba {} ({:+.2} %)",
+            e.mean[k],
+            reference.mean[k],
+            rel * 100.0
+        );
     }
     let d = tile_deviations(|ty, tx, k| {
         let (got, var) = e.tiles[ty][tx];
@@ -290,4 +298,3 @@ fn megakernel_and_hybrid_refuse_the_path_tracer() {
     // tracer's camera rays honour).
     r.render(&frame, &bvh, &GpuRenderOptions::path(1, 0)).unwrap();
 }
-

@@ -198,7 +198,9 @@ fn pt_material(m: &Material, env_ior: f32) -> PtMaterial {
     for (slot, l) in g.lobes.iter_mut().zip(&b.lobes) {
         *slot = pt_lobe(l);
     }
-    g.has_smooth = u32::from(g.lobes[..g.lobe_count as usize].iter().any(|l| !(l.kind == 2 || l.kind == 4 || (l.kind == 3 && l.dist == 0))));
+    g.has_smooth = u32::from(
+        g.lobes[..g.lobe_count as usize].iter().any(|l| !(l.kind == 2 || l.kind == 4 || (l.kind == 3 && l.dist == 0))),
+    );
     g
 }
 
@@ -568,7 +570,13 @@ impl FrameUpload {
             };
             (emitters, area, t.emitter_of_prim, materials, params)
         } else {
-            (vec![PtEmitter::zeroed()], vec![[0u32; 2]], vec![u32::MAX], vec![PtMaterial::zeroed()], PathParams::zeroed())
+            (
+                vec![PtEmitter::zeroed()],
+                vec![[0u32; 2]],
+                vec![u32::MAX],
+                vec![PtMaterial::zeroed()],
+                PathParams::zeroed(),
+            )
         };
         let [a0, a1, a2, a3] = &mut self.path_arrays;
         let mut written = Array::sync(&ctx, a0, "path emitters", &emitters)?;
