@@ -172,3 +172,85 @@ impl BsdfDesc {
         Self { lobes, two_sided: b.two_sided() }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use dynray_geom::TriangleMesh;
+    use dynray_scene::{Actor, Bsdf as Desc, BsdfKind, Scene};
+
+    /// The table lists what `Lights` samples, in its order, with each group's running
+    /// area sums, and maps every triangle of an emissive actor to its emitter.
+    #[test]
+    fn emitter_table_mirrors_the_lights() {
+        let quad = |y: f32, s: f32| TriangleMesh {
+            positions: vec![[-s, y, -s], [s, y, -s], [s, y, s], [-s, y, s]],
+            indices: vec![[0, 1, 2], [0, 2, 3]],
+            normals: None,
+            uvs: None,
+        };
+        let lamp = Material { emission: Color::new(2.0, 1.0, 0.5), ..Material::default() };
+        let mut s = Scene { materials: vec![Material::default(), lamp], ..Default::default() };
+        s.environment.background = Color::new(0.1, 0.2, 0.3);
+        s.actors.push(Actor::new(None, quad(0.0, 1.0), 0));
+        s.actors.push(Actor::new(None, quad(2.0, 0.5), 1));
+        s.lights.push(dynray_scene::Light {
+            kind: LightKind::Point { position: Vec3::new(1.0, 1.0, 0.0), falloff: 2 },
+            color: Color::ONE,
+        });
+        let frame = s.frame(0.0);
+        let t = EmitterTable::new(&frame);
+        assert_eq!(t.emitters.len(), 3, "{:?}", t.emitters);
+        assert_eq!(t.emitters[0], EmitterDesc::Area { first: 0, count: 2, total: 1.0 });
+        assert!(matches!(t.emitters[1], EmitterDesc::Point { falloff: 2, .. }));
+        assert_eq!(t.emitters[2], EmitterDesc::Environment);
+        assert_eq!(t.area_tris, vec![2, 3]);
+        assert_eq!(t.area_cdf, vec![0.5, 1.0]);
+        assert_eq!(t.emitter_of_prim, vec![u32::MAX, u32::MAX, 0, 0]);
+        assert_eq!(t.environment, Color::new(0.1, 0.2, 0.3));
+        assert!(t.any_hittable);
+    }
+
+    /// Physical BSDFs are one lobe; the Phong mapping's lobes carry probabilities that
+    /// sum to one and colours scaled down together where they exceed 1.
+    #[test]
+    fn bsdf_descriptions_are_the_path_tracers() {
+        let gold = Material {
+            bsdf: Some(Desc {
+                kind: BsdfKind::Conductor {
+                    eta: Color::splat(0.2),
+                    k: Color::splat(3.0),
+                    specular_reflectance: Color::ONE,
+                    roughness: Some(dynray_scene::Roughness {
+                        distribution: Microfacet::Ggx,
+                        alpha_u: 0.0,
+                        alpha_v: 0.3,
+                    }),
+                },
+                two_sided: false,
+            }),
+            ..Material::default()
+        };
+        let b = BsdfDesc::of(&gold, 1.0);
+        assert!(!b.two_sided);
+        assert_eq!(b.lobes.len(), 1);
+        // Roughness clamped as Microfacet::new does.
+        assert!(matches!(b.lobes[0], (LobeDesc::Conductor { rough: Some((Microfacet::Ggx, ax, ay)), .. }, p)
+            if ax == 1e-4 && ay == 0.3 && p == 1.0));
+        let phong = Material {
+            diffuse: Color::splat(0.8),
+            spot: Color::splat(0.4),
+            shine: 20.0,
+            transparency: Color::splat(0.4),
+            ior: 1.5,
+            ..Material::default()
+        };
+        let b = BsdfDesc::of(&phong, 1.0);
+        assert!(b.two_sided);
+        assert_eq!(b.lobes.len(), 3);
+        let total: f32 = b.lobes.iter().map(|(_, p)| p).sum();
+        assert!((total - 1.0).abs() < 1e-6);
+        assert!(matches!(b.lobes[0].0, LobeDesc::Diffuse(c) if (c.x - 0.5).abs() < 1e-6));
+        assert!(matches!(b.lobes[2].0, LobeDesc::Dielectric { eta, .. } if eta == 1.5));
+    }
+}
