@@ -14,7 +14,8 @@
 //!   render at 128×96, half the reference's size: a tile covers the same part of the
 //!   image, so its expected mean is the same.
 //! - Against the CPU path tracer: Mitsuba's Cornell box (`cbox.xml`, area light, depth 6)
-//!   rendered by both; each channel's mean within 3 σ of the combined noise of the two,
+//!   and examples/whitted.scn (the Phong mapping of scene-language materials, point
+//!   lights) rendered by both; each channel's mean within 3 σ of the combined noise of the two,
 //!   the tiles by the same bounds.
 //! - The megakernel and hybrid strategies refuse the path tracer with a message.
 //!
@@ -257,30 +258,43 @@ fn glass_and_metal_match_mitsuba() {
     check_against_mitsuba("glass_metal_d6", &frame_of(&xml, Some(6), None), &r, 64);
 }
 
-#[test]
-fn cornell_box_agrees_with_the_cpu_path_tracer() {
+/// The GPU path tracer against the CPU's on `frame`: each channel's mean within 3 σ of
+/// the two renderers' combined noise (and 2 %), the tiles by [`assert_tiles`].
+fn check_against_cpu(name: &str, frame: &Frame, spp: u32) {
     let Some(ctx) = gpu_support::device() else { return };
-    let xml = shared("scenes/cornell-box/mitsuba-cbox/cbox.xml");
-    let frame = frame_of(&xml, Some(6), Some((64, 64)));
-    let spp = 16;
-    let gpu = estimate(&gpu_render(&ctx, &frame, spp, 1), &gpu_render(&ctx, &frame, spp, 2));
-    let cpu = estimate(&cpu_render(&frame, spp, 1), &cpu_render(&frame, spp, 2));
+    let gpu = estimate(&gpu_render(&ctx, frame, spp, 1), &gpu_render(&ctx, frame, spp, 2));
+    let cpu = estimate(&cpu_render(frame, spp, 1), &cpu_render(frame, spp, 2));
     for k in 0..3 {
         let s = sigmas((gpu.mean[k] - cpu.mean[k]).abs(), (gpu.mean_var[k] + cpu.mean_var[k]).sqrt());
         eprintln!(
-            "cbox_d6 channel {k}: GPU mean {:.6} vs CPU {:.6} ({:+.3} %, {s:.2} σ)",
+            "{name} channel {k}: GPU mean {:.6} vs CPU {:.6} ({:+.3} %, {s:.2} σ)",
             gpu.mean[k],
             cpu.mean[k],
             (gpu.mean[k] / cpu.mean[k] - 1.0) * 100.0
         );
-        assert!(s <= 3.0, "cbox_d6 channel {k}: GPU mean {} vs CPU {} is {s:.2} σ apart", gpu.mean[k], cpu.mean[k]);
-        assert!((gpu.mean[k] / cpu.mean[k] - 1.0).abs() < 0.02, "channel {k}");
+        assert!(s <= 3.0, "{name} channel {k}: GPU mean {} vs CPU {} is {s:.2} σ apart", gpu.mean[k], cpu.mean[k]);
+        assert!((gpu.mean[k] / cpu.mean[k] - 1.0).abs() < 0.02, "{name} channel {k}");
     }
     let d = tile_deviations(|ty, tx, k| {
         let ((g, gv), (c, cv)) = (gpu.tiles[ty][tx], cpu.tiles[ty][tx]);
         sigmas((g[k] - c[k]).abs(), (gv[k] + cv[k]).sqrt())
     });
-    assert_tiles("cbox_d6 GPU vs CPU", &d);
+    assert_tiles(&format!("{name} GPU vs CPU"), &d);
+}
+
+#[test]
+fn cornell_box_agrees_with_the_cpu_path_tracer() {
+    let xml = shared("scenes/cornell-box/mitsuba-cbox/cbox.xml");
+    check_against_cpu("cbox_d6", &frame_of(&xml, Some(6), Some((64, 64))), 16);
+}
+
+/// The Phong mapping of the scene language's materials (Lambertian, normalised Phong,
+/// mirror and dielectric lobes chosen by weight, two-sided) under point lights:
+/// examples/whitted.scn, a mirror and a glass sphere over a tiled floor.
+#[test]
+fn scene_language_materials_agree_with_the_cpu_path_tracer() {
+    let scn = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/whitted.scn");
+    check_against_cpu("whitted.scn", &frame_of(&scn, Some(6), Some((64, 48))), 128);
 }
 
 #[test]
