@@ -65,7 +65,32 @@ fn what_the_gpu_does_not_render_is_refused() {
         args.extend_from_slice(extra);
         dynray(&args)
     };
-    fails_with(with(&["--integrator", "path"]), "whitted and cumulative integrators only");
+    for strategy in ["megakernel", "hybrid"] {
+        fails_with(with(&["--integrator", "path", "--gpu-strategy", strategy]), "--gpu-strategy wavefront only");
+    }
     fails_with(with(&["--accel", "bih"]), "traces `bvh` only");
     assert!(!out.exists(), "a refused render left an image");
+}
+
+/// `--integrator path --backend gpu` through the binary. On Mitsuba's sphere at depth 2
+/// (one point light, direct light only) the path tracer draws no number that matters
+/// (one emitter to pick, no continuation), so the GPU's image is the CPU's up to f32
+/// rounding: the same camera rays (the CPU sampler's positions), clip planes, BSDF and
+/// shadow rays. The statistical checks of the rest are crates/gpu/tests/path_tracer.rs.
+#[test]
+fn the_path_tracer_renders_the_cpus_direct_light() {
+    if !gpu_present() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let scene = support::root().join("../shared/reference/sphere/sphere_d2.xml");
+    let args = ["--integrator", "path"];
+    let cpu = render_exr(Some(&scene), &args, &dir.path().join("cpu.exr"));
+    let mut gpu_args = args.to_vec();
+    gpu_args.extend_from_slice(&["--backend", "gpu", "--gpu-strategy", "wavefront"]);
+    let gpu = render_exr(Some(&scene), &gpu_args, &dir.path().join("gpu.exr"));
+    assert!(cpu.iter().any(|&v| v > 0.1), "the CPU image is black");
+    let worst = max_abs_difference(&cpu, &gpu);
+    eprintln!("sphere_d2, path: largest channel difference GPU vs CPU {worst:.2e}");
+    assert!(worst <= 1e-3, "sphere_d2, path: largest channel difference {worst}");
 }

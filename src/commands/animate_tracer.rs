@@ -17,7 +17,7 @@ use dynray_accel::{
     Accel, AccelKind, AccelSpec, Bvh, BvhParams, LiveAccel, LiveScene, SceneLayout, UpdateAction, UpdatePolicy,
     UpdateReport,
 };
-use dynray_gpu::{GpuBuild, GpuBvh, GpuContext, GpuOptions, GpuRenderOptions, GpuRenderer, GpuStrategy};
+use dynray_gpu::{GpuBuild, GpuBvh, GpuContext, GpuIntegrator, GpuOptions, GpuRenderOptions, GpuRenderer, GpuStrategy};
 use dynray_render::{Film, IntegratorKind, RenderOptions, RenderStats};
 use dynray_scene::{Frame, Scene};
 use std::any::Any;
@@ -74,9 +74,9 @@ impl Tracer {
     }
 
     /// The GPU tracer (a BVH; `options` must ask for an integrator the GPU has:
-    /// [`gpu_branch_depth`]).
+    /// [`gpu_integrator`]).
     pub fn gpu(spec: &AccelSpec, policy: UpdatePolicy, options: &RenderOptions, gpu: GpuChoice<'_>) -> Result<Self> {
-        gpu_branch_depth(options, gpu.strategy)?;
+        gpu_integrator(options, gpu.strategy)?;
         if spec.kind != AccelKind::Bvh {
             bail!("the GPU backend traces `bvh` only (got `{}`); use --accel bvh or --backend cpu", spec.kind.name());
         }
@@ -123,7 +123,7 @@ impl Tracer {
                     strategy: g.strategy,
                     spp: options.spp,
                     seed: options.seed,
-                    branch_depth: gpu_branch_depth(options, g.strategy)?,
+                    integrator: gpu_integrator(options, g.strategy)?,
                     passes: options.passes,
                 };
                 let out = if let Some(live) = &g.live {
@@ -156,18 +156,19 @@ impl Tracer {
     }
 }
 
-/// The GPU's integrator for `options`: `None` for Whitted's, `Some(K)` for the
-/// cumulative one (the wavefront strategy's kernel only); an error, before any device
-/// work, for the others.
-pub fn gpu_branch_depth(options: &RenderOptions, strategy: GpuStrategy) -> Result<Option<u32>> {
-    match options.integrator {
-        IntegratorKind::Whitted => Ok(None),
-        IntegratorKind::Cumulative if strategy == GpuStrategy::Wavefront => Ok(Some(options.params.branch_depth)),
-        IntegratorKind::Cumulative => {
-            bail!("the cumulative integrator runs on the GPU with --gpu-strategy wavefront only (got `{strategy}`)")
-        }
-        other => bail!("the GPU backend renders with the whitted and cumulative integrators only (got `{other}`)"),
+/// The GPU's integrator for `options`: Whitted's on every strategy; the cumulative
+/// tracer and the path tracer on the wavefront strategy only (their kernels are its
+/// modes), an error before any device work on the others.
+pub fn gpu_integrator(options: &RenderOptions, strategy: GpuStrategy) -> Result<GpuIntegrator> {
+    let gpu = match options.integrator {
+        IntegratorKind::Whitted => return Ok(GpuIntegrator::Whitted),
+        IntegratorKind::Cumulative => GpuIntegrator::Cumulative { branch_depth: options.params.branch_depth },
+        IntegratorKind::Path => GpuIntegrator::Path,
+    };
+    if strategy != GpuStrategy::Wavefront {
+        bail!("the {} integrator runs on the GPU with --gpu-strategy wavefront only (got `{strategy}`)", gpu.name());
     }
+    Ok(gpu)
 }
 
 /// The CPU structures' update: built on the first frame in the layout, then the policy.

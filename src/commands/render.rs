@@ -288,7 +288,7 @@ fn render_on_gpu(
     gpu: &GpuOptions,
 ) -> Result<()> {
     let cpu_options = RenderOptions { integrator: a.integrator, params, passes, ..Default::default() };
-    let branch_depth = super::animate_tracer::gpu_branch_depth(&cpu_options, a.gpu_strategy)?;
+    let integrator = super::animate_tracer::gpu_integrator(&cpu_options, a.gpu_strategy)?;
     if a.aov.is_some() {
         bail!("--aov is rendered on the CPU only; drop --backend gpu");
     }
@@ -299,7 +299,7 @@ fn render_on_gpu(
     let params = a.accel.read().with_context(cannot_build)?;
     let ctx = Arc::new(GpuContext::new(gpu)?);
     let mut renderer = GpuRenderer::new(ctx.clone())?;
-    let options = GpuRenderOptions { strategy: a.gpu_strategy, spp, seed: a.seed, branch_depth, passes };
+    let options = GpuRenderOptions { strategy: a.gpu_strategy, spp, seed: a.seed, integrator, passes };
     let t0 = Instant::now();
     let how = a.backend.gpu_build;
     let (out, build) = if how == GpuBuild::Cpu {

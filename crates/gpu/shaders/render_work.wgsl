@@ -17,8 +17,11 @@ struct RayRec {
     // `id`) and its sample's key: what its choice hashes (choice_random).
     path: u32,
     key: u32,
-    _pad0: u32,
-    _pad1: u32,
+    // The path tracer's previous vertex (path_shade.wgsl): its BSDF sample's density, and
+    // 1 when that sample came from a smooth lobe (0 after the camera or a delta bounce:
+    // emission found next is weighted 1). Unused by the other integrators.
+    prev_pdf: f32,
+    prev_smooth: u32,
 }
 
 struct Work {

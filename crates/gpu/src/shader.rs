@@ -23,6 +23,8 @@ pub(crate) const WHITTED_SHADE: &str = include_str!("../shaders/whitted_shade.wg
 pub(crate) const WORKGROUP_SCAN: &str = include_str!("../shaders/workgroup_scan.wgsl");
 /// Prefix-sum stream compaction.
 pub(crate) const COMPACT: &str = include_str!("../shaders/compact.wgsl");
+/// The path tracer's shading (the wavefront's third mode).
+pub(crate) const PATH_SHADE: &str = include_str!("../shaders/path_shade.wgsl");
 /// The wavefront strategy's kernels.
 pub(crate) const WAVEFRONT: &str = include_str!("../shaders/wavefront.wgsl");
 /// The megakernel strategy.
@@ -49,6 +51,7 @@ pub(crate) fn render_module(precision: Precision, stack: u32, ray_stack: u32) ->
             WORKGROUP_SCAN,
             COMPACT,
             WAVEFRONT,
+            PATH_SHADE,
             MEGAKERNEL,
             HYBRID,
         ],

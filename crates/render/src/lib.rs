@@ -38,7 +38,9 @@ pub use film::{linear_to_srgb8, Film};
 pub use integrator::{Integrator, IntegratorKind, IntegratorParams, RayCounts};
 pub use intersector::{Geometry, SceneIntersector, TriangleGeometry};
 pub use output::{write_aov, write_image, OutputFormat};
-pub use path::{PathTracer, Strategy as PathStrategy, MAX_PATH_DEPTH, RR_DEPTH};
+pub use path::{
+    BsdfDesc, EmitterDesc, EmitterTable, LobeDesc, PathTracer, Strategy as PathStrategy, MAX_PATH_DEPTH, RR_DEPTH,
+};
 pub use render::{render, render_aov, render_with, PassCallback, RenderOptions, RenderStats, BATCH_RAYS};
 pub use sampler::{choice_random, Sampler};
 pub use shading::MAX_LEVEL_CAP;

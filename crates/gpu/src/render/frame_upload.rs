@@ -9,8 +9,10 @@ use super::work::Kernels;
 use crate::{buffer, GpuBvh, GpuContext, GpuError};
 use bytemuck::{Pod, Zeroable};
 use dynray_accel::Bvh;
-use dynray_render::{shadow_filter, CameraRays, Sampler, MAX_LEVEL_CAP};
-use dynray_scene::{Frame, LightKind, Material};
+use dynray_render::{
+    shadow_filter, BsdfDesc, CameraRays, EmitterDesc, EmitterTable, LobeDesc, Sampler, MAX_LEVEL_CAP, MAX_PATH_DEPTH,
+};
+use dynray_scene::{Frame, LightKind, Material, Microfacet};
 use std::sync::Arc;
 
 /// `Material` of render_scene.wgsl: 96 bytes.
@@ -47,6 +49,160 @@ struct GpuLight {
     _pad: [u32; 3],
 }
 const _: () = assert!(std::mem::size_of::<GpuLight>() == 64);
+
+/// `PtEmitter` of path_shade.wgsl: 64 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+struct PtEmitter {
+    position: [f32; 3],
+    kind: u32,
+    direction: [f32; 3],
+    falloff: i32,
+    color: [f32; 3],
+    cos_inner: f32,
+    cos_outer: f32,
+    first: u32,
+    count: u32,
+    total: f32,
+    spot: u32,
+    _pad: [u32; 3],
+}
+const _: () = assert!(std::mem::size_of::<PtEmitter>() == 80);
+
+/// `PtLobe` of path_shade.wgsl: 64 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+struct PtLobe {
+    a: [f32; 3],
+    kind: u32,
+    b: [f32; 3],
+    prob: f32,
+    c: [f32; 3],
+    p0: f32,
+    ax: f32,
+    ay: f32,
+    dist: u32,
+    _pad: u32,
+}
+const _: () = assert!(std::mem::size_of::<PtLobe>() == 64);
+
+/// `PtMaterial` of path_shade.wgsl: 288 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+struct PtMaterial {
+    emission: [f32; 3],
+    lobe_count: u32,
+    two_sided: u32,
+    has_smooth: u32,
+    _pad: [u32; 2],
+    lobes: [PtLobe; 4],
+}
+const _: () = assert!(std::mem::size_of::<PtMaterial>() == 288);
+
+/// `PathParams` of path_shade.wgsl: 48 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
+struct PathParams {
+    environment: [f32; 3],
+    emitter_count: u32,
+    max_depth: u32,
+    any_hittable: u32,
+    clip_near: f32,
+    clip_far: f32,
+    has_clip: u32,
+    _pad: [u32; 3],
+}
+const _: () = assert!(std::mem::size_of::<PathParams>() == 48);
+
+fn pt_emitter(e: &EmitterDesc) -> PtEmitter {
+    let mut g = PtEmitter::zeroed();
+    match *e {
+        EmitterDesc::Area { first, count, total } => {
+            g.kind = 0;
+            g.first = first;
+            g.count = count;
+            g.total = total;
+        }
+        EmitterDesc::Point { position, intensity, falloff, kind } => {
+            g.kind = 1;
+            g.position = position.to_array();
+            g.color = intensity.to_array();
+            g.falloff = falloff;
+            if let LightKind::Spot { direction, cos_inner, cos_outer, .. } = kind {
+                g.spot = 1;
+                g.direction = direction.normalize_or_zero().to_array();
+                g.cos_inner = cos_inner;
+                g.cos_outer = cos_outer;
+            }
+        }
+        EmitterDesc::Directional { towards_light, irradiance } => {
+            g.kind = 2;
+            g.position = towards_light.to_array();
+            g.color = irradiance.to_array();
+        }
+        EmitterDesc::Environment => g.kind = 3,
+    }
+    g
+}
+
+fn pt_lobe((lobe, prob): &(LobeDesc, f32)) -> PtLobe {
+    let mut g = PtLobe::zeroed();
+    g.prob = *prob;
+    match *lobe {
+        LobeDesc::Diffuse(c) => {
+            g.kind = 0;
+            g.a = c.to_array();
+        }
+        LobeDesc::Phong(c, n) => {
+            g.kind = 1;
+            g.a = c.to_array();
+            g.p0 = n;
+        }
+        LobeDesc::Mirror(c) => {
+            g.kind = 2;
+            g.a = c.to_array();
+        }
+        LobeDesc::Conductor { eta, k, scale, rough } => {
+            g.kind = 3;
+            g.a = eta.to_array();
+            g.b = k.to_array();
+            g.c = scale.to_array();
+            if let Some((dist, ax, ay)) = rough {
+                g.dist = match dist {
+                    Microfacet::Beckmann => 1,
+                    Microfacet::Ggx => 2,
+                };
+                g.ax = ax;
+                g.ay = ay;
+            }
+        }
+        LobeDesc::Dielectric { eta, r, t } => {
+            g.kind = 4;
+            g.a = r.to_array();
+            g.b = t.to_array();
+            g.p0 = eta;
+        }
+    }
+    g
+}
+
+/// A material as the path tracer sees it: the BSDF `BsdfDesc` converts from the CPU's,
+/// the emission as lights.rs reads it (finite, at least 0).
+fn pt_material(m: &Material, env_ior: f32) -> PtMaterial {
+    let b = BsdfDesc::of(m, env_ior);
+    let mut g = PtMaterial::zeroed();
+    let e = if m.emission.is_finite() { m.emission.max(dynray_scene::Color::ZERO) } else { dynray_scene::Color::ZERO };
+    g.emission = e.to_array();
+    g.lobe_count = b.lobes.len().min(4) as u32;
+    g.two_sided = u32::from(b.two_sided);
+    for (slot, l) in g.lobes.iter_mut().zip(&b.lobes) {
+        *slot = pt_lobe(l);
+    }
+    g.has_smooth = u32::from(
+        g.lobes[..g.lobe_count as usize].iter().any(|l| !(l.kind == 2 || l.kind == 4 || (l.kind == 3 && l.dist == 0))),
+    );
+    g
+}
 
 /// `SceneParams` of render_scene.wgsl: 128 bytes (a vec3 and a scalar per 16-byte row).
 #[repr(C)]
@@ -132,16 +288,18 @@ fn light(l: &dynray_scene::Light) -> GpuLight {
     g
 }
 
-/// Why a frame cannot be rendered on the GPU.
-pub(crate) fn check_supported(frame: &Frame) -> Result<(), GpuError> {
+/// Why a frame cannot be rendered on the GPU (`path`: with the path tracer, whose camera
+/// rays honour clip planes).
+pub(crate) fn check_supported(frame: &Frame, path: bool) -> Result<(), GpuError> {
     // A texture is only looked up where the mesh has texture coordinates (intersector.rs).
     if frame.mesh.uvs.is_some() && frame.materials.iter().any(|m| m.diffuse_texture.is_some()) {
         return Err(GpuError::Unsupported {
             what: "textured materials (the GPU strategies shade untextured surfaces only; use --backend cpu)".into(),
         });
     }
-    // camera.wgsl's rays run over [0, ∞), as CameraRays' without clip planes.
-    if frame.camera.clip != dynray_scene::Clip::NONE {
+    // camera.wgsl's rays run over [0, ∞), as CameraRays' without clip planes; the path
+    // tracer's trace kernel (pt_trace) clips them as CameraRays::ray_at does.
+    if !path && frame.camera.clip != dynray_scene::Clip::NONE {
         return Err(GpuError::Unsupported {
             what: "a camera with near/far clip planes (Mitsuba's near_clip/far_clip; use --backend cpu)".into(),
         });
@@ -196,6 +354,10 @@ pub(crate) struct FrameUpload {
     bvh: Option<(GpuBvh, Vec<u8>)>,
     arrays: [Option<Array>; 8],
     params: Option<(wgpu::Buffer, SceneParams)>,
+    /// The path tracer's tables (placeholders of one element for the other integrators):
+    /// emitters, emissive triangles, emitter per triangle, BSDF per material.
+    path_arrays: [Option<Array>; 4],
+    path_params: Option<(wgpu::Buffer, PathParams)>,
     /// Samples of the uploaded sub-pixel positions.
     pub samples: u32,
     pub spp: u32,
@@ -205,7 +367,18 @@ pub(crate) struct FrameUpload {
 
 impl FrameUpload {
     pub fn new(ctx: Arc<GpuContext>) -> Self {
-        Self { ctx, bvh: None, arrays: Default::default(), params: None, samples: 0, spp: 1, seed: 0, width: 1 }
+        Self {
+            ctx,
+            bvh: None,
+            arrays: Default::default(),
+            params: None,
+            path_arrays: Default::default(),
+            path_params: None,
+            samples: 0,
+            spp: 1,
+            seed: 0,
+            width: 1,
+        }
     }
 
     /// The cumulative integrator's key of every pixel sample of pass `first_sample / spp`
@@ -240,7 +413,8 @@ impl FrameUpload {
 
     /// Brings the device's copy up to `frame` (with `tree` built on its mesh) and sample
     /// positions for `spp` and `seed`; returns the bytes written.
-    pub fn sync(&mut self, frame: &Frame, tree: Tree<'_>, spp: u32, seed: u64) -> Result<u64, GpuError> {
+    /// `path`: with the path tracer's tables.
+    pub fn sync(&mut self, frame: &Frame, tree: Tree<'_>, spp: u32, seed: u64, path: bool) -> Result<u64, GpuError> {
         let ctx = self.ctx.clone();
         let mut written = 0;
         let bvh = match tree {
@@ -249,7 +423,7 @@ impl FrameUpload {
                 // Built on the device: nothing to upload; an empty key makes the next
                 // host tree upload in full.
                 self.bvh = Some((g, Vec::new()));
-                return self.sync_frame(frame, spp, seed);
+                return self.sync_frame(frame, spp, seed, path);
             }
             Tree::Kept => {
                 let Some((_, key)) = &mut self.bvh else {
@@ -257,7 +431,7 @@ impl FrameUpload {
                 };
                 // It may have changed on the device: a later host tree uploads in full.
                 key.clear();
-                return self.sync_frame(frame, spp, seed);
+                return self.sync_frame(frame, spp, seed, path);
             }
         };
         let key: Vec<u8> = [
@@ -278,12 +452,12 @@ impl FrameUpload {
                 self.bvh = Some((GpuBvh::upload(ctx.clone(), bvh)?, key));
             }
         }
-        Ok(written + self.sync_frame(frame, spp, seed)?)
+        Ok(written + self.sync_frame(frame, spp, seed, path)?)
     }
 
     /// The frame's arrays and parameters (everything but the tree); returns the bytes
     /// written.
-    fn sync_frame(&mut self, frame: &Frame, spp: u32, seed: u64) -> Result<u64, GpuError> {
+    fn sync_frame(&mut self, frame: &Frame, spp: u32, seed: u64, path: bool) -> Result<u64, GpuError> {
         let ctx = self.ctx.clone();
         let mut written = 0;
         let mesh = &frame.mesh;
@@ -352,6 +526,7 @@ impl FrameUpload {
             has_normals: u32::from(mesh.normals.is_some()),
             material_count: materials.len() as u32,
         };
+        written += self.sync_path(frame, path)?;
         match &mut self.params {
             Some((_, p)) if *p == params => {}
             Some((b, p)) => {
@@ -367,13 +542,71 @@ impl FrameUpload {
         Ok(written)
     }
 
+    /// The path tracer's tables of `frame` (`path`), or one-element placeholders.
+    fn sync_path(&mut self, frame: &Frame, path: bool) -> Result<u64, GpuError> {
+        let ctx = self.ctx.clone();
+        let env_ior = sane_ior(frame.environment.ior);
+        let (emitters, area, of_prim, materials, params) = if path {
+            let t = EmitterTable::new(frame);
+            let emitters: Vec<PtEmitter> = t.emitters.iter().map(pt_emitter).collect();
+            let area: Vec<[u32; 2]> = t.area_tris.iter().zip(&t.area_cdf).map(|(&p, c)| [p, c.to_bits()]).collect();
+            // The same list as `materials` (the fallback last), converted as Bsdf::of does.
+            let materials: Vec<PtMaterial> = frame
+                .materials
+                .iter()
+                .chain(std::iter::once(&Material::default()))
+                .map(|m| pt_material(m, env_ior))
+                .collect();
+            let clip = CameraRays::new(&frame.camera, frame.settings.width, frame.settings.height).clip();
+            let params = PathParams {
+                environment: t.environment.to_array(),
+                emitter_count: emitters.len() as u32,
+                max_depth: frame.settings.max_recursion_level.saturating_add(1).min(MAX_PATH_DEPTH),
+                any_hittable: u32::from(t.any_hittable),
+                clip_near: clip.near,
+                clip_far: clip.far,
+                has_clip: u32::from(clip != dynray_scene::Clip::NONE),
+                _pad: [0; 3],
+            };
+            (emitters, area, t.emitter_of_prim, materials, params)
+        } else {
+            (
+                vec![PtEmitter::zeroed()],
+                vec![[0u32; 2]],
+                vec![u32::MAX],
+                vec![PtMaterial::zeroed()],
+                PathParams::zeroed(),
+            )
+        };
+        let [a0, a1, a2, a3] = &mut self.path_arrays;
+        let mut written = Array::sync(&ctx, a0, "path emitters", &emitters)?;
+        written += Array::sync(&ctx, a1, "emissive triangles", &area)?;
+        written += Array::sync(&ctx, a2, "emitter of triangle", &of_prim)?;
+        written += Array::sync(&ctx, a3, "path materials", &materials)?;
+        match &mut self.path_params {
+            Some((_, p)) if *p == params => {}
+            Some((b, p)) => {
+                ctx.queue.write_buffer(b, 0, bytemuck::bytes_of(&params));
+                *p = params;
+                written += 48;
+            }
+            None => {
+                self.path_params = Some((buffer::uniform(&ctx, "path params", &params), params));
+                written += 48;
+            }
+        }
+        Ok(written)
+    }
+
     /// Group 0 for `kernels` (made per render: cheap, and buffers may have been replaced).
     pub fn group(&self, kernels: &Kernels) -> wgpu::BindGroup {
         let (bvh, _) = self.bvh.as_ref().expect("sync before group");
         let [nodes, tris, ids] = bvh.buffers();
         let arr = |i: usize| &self.arrays[i].as_ref().expect("sync before group").buffer;
         let params = &self.params.as_ref().expect("sync before group").0;
-        let list: [(u32, &wgpu::Buffer); 12] = [
+        let parr = |i: usize| &self.path_arrays[i].as_ref().expect("sync before group").buffer;
+        let path_params = &self.path_params.as_ref().expect("sync before group").0;
+        let list: [(u32, &wgpu::Buffer); 17] = [
             (0, nodes),
             (1, tris),
             (2, ids),
@@ -386,6 +619,11 @@ impl FrameUpload {
             (9, params),
             (10, arr(6)),
             (11, arr(7)),
+            (12, parr(0)),
+            (13, parr(1)),
+            (14, parr(2)),
+            (15, parr(3)),
+            (16, path_params),
         ];
         let entries: Vec<_> = list
             .iter()

@@ -1,8 +1,8 @@
 //! Seed 003's three GPU tracing strategies (§3.10–3.12) over the frame's BVH, shading
 //! exactly as the CPU Whitted integrator (shaders/whitted_shade.wgsl), returning the CPU
 //! renderer's [`Film`]: wavefront, megakernel and hybrid (docs/gpu.md). The wavefront
-//! also runs seed 004's cumulative integrator, choosing the CPU's children
-//! ([`GpuRenderOptions::branch_depth`]).
+//! also runs seed 004's cumulative integrator, choosing the CPU's children, and the
+//! physically based path tracer (shaders/path_shade.wgsl) ([`GpuIntegrator`]).
 
 mod compact;
 mod frame_upload;
@@ -66,6 +66,33 @@ impl std::fmt::Display for GpuStrategy {
     }
 }
 
+/// Which integrator the GPU runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GpuIntegrator {
+    /// The CPU Whitted integrator's image (every strategy).
+    Whitted,
+    /// Seed 004's cumulative integrator with branch depth `K` (the CPU's
+    /// `--integrator cumulative`, wavefront strategy only).
+    Cumulative {
+        /// Hits of rays of level ≤ K expand both children.
+        branch_depth: u32,
+    },
+    /// The physically based path tracer (the CPU's `--integrator path`: NEE, MIS,
+    /// Russian roulette; wavefront strategy only), converging to the CPU's image.
+    Path,
+}
+
+impl GpuIntegrator {
+    /// Its name, as `--integrator` spells it.
+    pub fn name(self) -> &'static str {
+        match self {
+            GpuIntegrator::Whitted => "whitted",
+            GpuIntegrator::Cumulative { .. } => "cumulative",
+            GpuIntegrator::Path => "path",
+        }
+    }
+}
+
 /// What to render.
 #[derive(Clone, Copy, Debug)]
 pub struct GpuRenderOptions {
@@ -73,11 +100,11 @@ pub struct GpuRenderOptions {
     pub strategy: GpuStrategy,
     /// Samples per pixel (the CPU sampler's positions).
     pub spp: u32,
-    /// Seed of the sample positions (and of the cumulative integrator's choices).
+    /// Seed of the sample positions (and of the cumulative and path integrators'
+    /// random numbers).
     pub seed: u64,
-    /// `Some(K)`: seed 004's cumulative integrator with branch depth `K` (the CPU's
-    /// `--integrator cumulative`, wavefront strategy only); `None`: Whitted's.
-    pub branch_depth: Option<u32>,
+    /// The integrator.
+    pub integrator: GpuIntegrator,
     /// Passes of `spp` samples accumulated into the film, as the CPU render loop's
     /// (pass `p` uses sample indices `p · spp ..`); at least 1.
     pub passes: u32,
@@ -86,7 +113,12 @@ pub struct GpuRenderOptions {
 impl GpuRenderOptions {
     /// Whitted's integrator, one pass.
     pub fn whitted(strategy: GpuStrategy, spp: u32, seed: u64) -> Self {
-        Self { strategy, spp, seed, branch_depth: None, passes: 1 }
+        Self { strategy, spp, seed, integrator: GpuIntegrator::Whitted, passes: 1 }
+    }
+
+    /// The path tracer (wavefront strategy), one pass.
+    pub fn path(spp: u32, seed: u64) -> Self {
+        Self { strategy: GpuStrategy::Wavefront, spp, seed, integrator: GpuIntegrator::Path, passes: 1 }
     }
 }
 
@@ -171,7 +203,8 @@ impl GpuRenderer {
     }
 
     /// Renders `frame` (size, camera, limits from its settings) traced through `bvh`,
-    /// built on `frame.mesh`, with the CPU Whitted integrator's shading.
+    /// built on `frame.mesh`, with the integrator `options` name (the CPU Whitted
+    /// integrator's shading, the cumulative tracer's or the path tracer's).
     pub fn render(&mut self, frame: &Frame, bvh: &Bvh, options: &GpuRenderOptions) -> Result<GpuRender, GpuError> {
         self.render_tree(frame, frame_upload::Tree::Host(bvh), options)
     }
@@ -208,12 +241,14 @@ impl GpuRenderer {
         tree: frame_upload::Tree<'_>,
         options: &GpuRenderOptions,
     ) -> Result<GpuRender, GpuError> {
-        frame_upload::check_supported(frame)?;
-        if options.branch_depth.is_some() && options.strategy != GpuStrategy::Wavefront {
+        let path = options.integrator == GpuIntegrator::Path;
+        frame_upload::check_supported(frame, path)?;
+        if options.integrator != GpuIntegrator::Whitted && options.strategy != GpuStrategy::Wavefront {
             return Err(GpuError::Unsupported {
                 what: format!(
-                    "the cumulative integrator with the {} strategy (its kernel is the wavefront's: \
+                    "the {} integrator with the {} strategy (its kernel is the wavefront's: \
                      --gpu-strategy wavefront)",
+                    options.integrator.name(),
                     options.strategy
                 ),
             });
@@ -226,7 +261,7 @@ impl GpuRenderer {
             });
         }
         let t0 = Instant::now();
-        let uploaded_bytes = self.upload.sync(frame, tree, options.spp, options.seed)?;
+        let uploaded_bytes = self.upload.sync(frame, tree, options.spp, options.seed, path)?;
         let upload = t0.elapsed().as_secs_f64();
         let params = self.upload.params().expect("synced");
         let stack = self.upload.bvh().expect("synced").stack();
@@ -247,8 +282,12 @@ impl GpuRenderer {
         let mut colors: Vec<[f32; 4]> = vec![[0.0; 4]; total as usize];
         let (mut secondary, mut shadow) = (0u64, 0u64);
         let mut uploaded_bytes = uploaded_bytes;
-        // Whitted's wavefront is the cumulative one expanding every hit.
-        let branch_depth = options.branch_depth.unwrap_or(u32::MAX);
+        let mode = match options.integrator {
+            // Whitted's wavefront is the cumulative one expanding every hit.
+            GpuIntegrator::Whitted => wavefront::Mode::Tree { branch_depth: u32::MAX },
+            GpuIntegrator::Cumulative { branch_depth } => wavefront::Mode::Tree { branch_depth },
+            GpuIntegrator::Path => wavefront::Mode::Path,
+        };
         let (w, h) = (frame.settings.width, frame.settings.height);
         let mut film = Film::new(w, h);
         for pass in 0..passes {
@@ -261,7 +300,7 @@ impl GpuRenderer {
                 let n = BATCH.min(total - base);
                 let film = buffer::output(&ctx, "sample radiance", 16 * n as u64)?;
                 secondary += match options.strategy {
-                    GpuStrategy::Wavefront => wavefront::render(&batch, &mut rec, base, n, &film, branch_depth)?,
+                    GpuStrategy::Wavefront => wavefront::render(&batch, &mut rec, base, n, &film, mode)?,
                     GpuStrategy::Megakernel => megakernel::render(&batch, &mut rec, base, n, &film)?,
                     GpuStrategy::Hybrid => hybrid::render(&batch, &mut rec, base, n, &film)?,
                 };

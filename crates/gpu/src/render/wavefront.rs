@@ -34,17 +34,32 @@ impl Grow {
     }
 }
 
-/// Renders samples `base..base + n` into `film` (16 bytes each), expanding both children
-/// at the hits of rays of level `<= branch_depth` and choosing one past it (seed 004's
-/// cumulative integrator; `u32::MAX` is Whitted's); returns the secondary rays traced.
+/// What the shade kernel does with a hit.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Mode {
+    /// Whitted's shading (wf_shade), expanding both children at the hits of rays of level
+    /// `<= branch_depth` and choosing one past it (seed 004's cumulative integrator;
+    /// `u32::MAX` is Whitted's).
+    Tree { branch_depth: u32 },
+    /// The path tracer (pt_trace, pt_shade): emission, a light sample with its shadow
+    /// ray, at most one continuation per hit.
+    Path,
+}
+
+/// Renders samples `base..base + n` into `film` (16 bytes each) in `mode`; returns the
+/// secondary rays traced.
 pub(crate) fn render(
     b: &Batch<'_>,
     rec: &mut Recorder<'_>,
     base: u32,
     n: u32,
     film: &wgpu::Buffer,
-    branch_depth: u32,
+    mode: Mode,
 ) -> Result<u64, GpuError> {
+    let (trace_entry, shade_entry, shade_work) = match mode {
+        Mode::Tree { branch_depth } => ("wf_trace", "wf_shade", Work { a: branch_depth, ..Default::default() }),
+        Mode::Path => ("pt_trace", "pt_shade", Work { b: base, ..Default::default() }),
+    };
     let ctx = b.ctx;
     let n64 = n as u64;
     let mut cur = Grow::new(ctx, "wave rays", RAY_BYTES, n64)?;
@@ -82,7 +97,7 @@ pub(crate) fn render(
             ],
             w,
         );
-        rec.dispatch(Stage::Trace, &k.pipeline(ctx, "wf_trace")?, b.scene, &g, m)?;
+        rec.dispatch(Stage::Trace, &k.pipeline(ctx, trace_entry)?, b.scene, &g, m)?;
         compact::record(ctx, k, ph, rec, &flags.buffer, &aux.buffer, &shade_list.buffer, m)?;
         let s = compact::count(rec, &aux.buffer)?;
         if s > 0 {
@@ -102,9 +117,9 @@ pub(crate) fn render(
                     (Slot::Contrib, &contrib.buffer),
                     (Slot::Counters, b.counters),
                 ],
-                Work { n: s, a: branch_depth, ..Default::default() },
+                Work { n: s, ..shade_work },
             );
-            rec.dispatch(Stage::Shade, &k.pipeline(ctx, "wf_shade")?, b.scene, &g, s)?;
+            rec.dispatch(Stage::Shade, &k.pipeline(ctx, shade_entry)?, b.scene, &g, s)?;
         }
         let g = work_group(
             ctx,

@@ -35,7 +35,9 @@ pub(crate) struct RayRec {
     /// The cumulative integrator's path number (48) and its sample's key (52).
     pub path: u32,
     pub key: u32,
-    pub _pad: [u32; 2],
+    /// The path tracer's previous BSDF density (56) and smooth flag (60).
+    pub prev_pdf: f32,
+    pub prev_smooth: u32,
 }
 const _: () = assert!(std::mem::size_of::<RayRec>() == 64, "RayRec mirrors the WGSL struct");
 
@@ -158,6 +160,10 @@ impl Kernels {
         scene_entries.push(uniform_entry(9));
         scene_entries.push(storage_entry(10, true));
         scene_entries.push(storage_entry(11, true));
+        // The path tracer's tables (path_shade.wgsl): emitters, emissive triangles, the
+        // emitter of each triangle, the BSDF of each material, its parameters.
+        scene_entries.extend((12..=15).map(|b| storage_entry(b, true)));
+        scene_entries.push(uniform_entry(16));
         let scene_layout = d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("frame"),
             entries: &scene_entries,

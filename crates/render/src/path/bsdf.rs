@@ -47,7 +47,7 @@ pub(crate) struct BsdfSample {
 
 /// One scattering lobe.
 #[derive(Clone, Copy, Debug)]
-enum Lobe {
+pub(crate) enum Lobe {
     Diffuse(Color),
     /// Normalised modified Phong about the mirror direction: colour, exponent.
     Phong(Color, f32),
@@ -276,6 +276,16 @@ impl Bsdf {
 
     fn lobes(&self) -> impl Iterator<Item = (Lobe, f32)> + '_ {
         self.lobes.iter().flatten().copied()
+    }
+
+    /// The lobes with their choice probabilities (tables.rs exports them).
+    pub(crate) fn lobe_list(&self) -> impl Iterator<Item = (Lobe, f32)> + '_ {
+        self.lobes()
+    }
+
+    /// Whether reflecting lobes work from both sides.
+    pub(crate) fn two_sided(&self) -> bool {
+        self.two_sided
     }
 
     /// True when some lobe is not a delta: light sampling can reach it.

@@ -27,21 +27,21 @@ use dynray_scene::{Color, Frame, LightKind};
 use std::f32::consts::PI;
 
 /// One emissive actor's triangles.
-struct AreaGroup {
+pub(crate) struct AreaGroup {
     /// Triangle indices into the frame's mesh.
-    tris: Vec<u32>,
+    pub tris: Vec<u32>,
     /// Running sum of their areas (the last one is the total).
-    cdf: Vec<f32>,
+    pub cdf: Vec<f32>,
 }
 
 impl AreaGroup {
-    fn area(&self) -> f32 {
+    pub fn area(&self) -> f32 {
         self.cdf.last().copied().unwrap_or(0.0)
     }
 }
 
 #[derive(Clone, Copy)]
-enum Emitter {
+pub(crate) enum Emitter {
     Area(usize),
     Point { position: Vec3, intensity: Color, falloff: i32, kind: LightKind },
     Directional { towards_light: Vec3, irradiance: Color },
@@ -66,10 +66,10 @@ pub(crate) struct LightSample {
 /// Every emitter of a frame.
 pub(crate) struct Lights<'a> {
     frame: &'a Frame,
-    emitters: Vec<Emitter>,
-    groups: Vec<AreaGroup>,
+    pub emitters: Vec<Emitter>,
+    pub groups: Vec<AreaGroup>,
     /// Per actor, the index into `emitters` of its area light, if it has one.
-    emitter_of_actor: Vec<Option<u32>>,
+    pub emitter_of_actor: Vec<Option<u32>>,
     environment: Color,
 }
 

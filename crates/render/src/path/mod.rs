@@ -36,6 +36,7 @@ mod lights;
 mod local;
 mod microfacet;
 mod mis;
+mod tables;
 
 use crate::{Integrator, RayCounts, Sampler, SceneIntersector};
 use bsdf::Bsdf;
@@ -44,6 +45,7 @@ use dynray_scene::{Color, Frame};
 use lights::Lights;
 use local::Local;
 use mis::power_heuristic;
+pub use tables::{BsdfDesc, EmitterDesc, EmitterTable, LobeDesc};
 
 /// Depth (segments traced so far) from which Russian roulette may end a path: Mitsuba's
 /// default `rr_depth`.
