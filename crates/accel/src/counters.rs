@@ -10,6 +10,10 @@ pub trait Counter {
     fn node(&mut self);
     /// `n` triangles were tested.
     fn triangles(&mut self, n: u32);
+    /// `n` nodes were visited (a nested structure's count, passed up at once).
+    fn nodes(&mut self, n: u64) {
+        (0..n).for_each(|_| self.node());
+    }
 }
 
 /// The counter that counts nothing.
@@ -21,6 +25,8 @@ impl Counter for NoCount {
     fn node(&mut self) {}
     #[inline(always)]
     fn triangles(&mut self, _: u32) {}
+    #[inline(always)]
+    fn nodes(&mut self, _: u64) {}
 }
 
 /// Accumulated traversal work.
@@ -40,6 +46,10 @@ impl Counter for TraversalCounts {
     #[inline(always)]
     fn triangles(&mut self, n: u32) {
         self.triangles += n as u64;
+    }
+    #[inline(always)]
+    fn nodes(&mut self, n: u64) {
+        self.nodes += n;
     }
 }
 

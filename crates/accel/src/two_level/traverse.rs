@@ -115,7 +115,7 @@ impl TwoLevel {
                     let mut n = TraversalCounts::default();
                     let h = accel.intersect_counted(&local, &mut n);
                     c.triangles(n.triangles as u32);
-                    (0..n.nodes).for_each(|_| c.node());
+                    c.nodes(n.nodes);
                     h
                 } else {
                     accel.intersect(&local)

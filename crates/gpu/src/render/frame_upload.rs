@@ -50,7 +50,7 @@ struct GpuLight {
 }
 const _: () = assert!(std::mem::size_of::<GpuLight>() == 64);
 
-/// `PtEmitter` of path_shade.wgsl: 64 bytes.
+/// `PtEmitter` of path_shade.wgsl: 80 bytes.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 struct PtEmitter {
