@@ -4,7 +4,7 @@ use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::{Args, Parser, Subcommand};
 use dynray_accel::{AccelSpec, SceneLayout, UpdatePolicy};
 use dynray_bench::trace_rays::HitField;
-use dynray_bench::{BenchConfig, Preset, RayKind};
+use dynray_bench::{BenchConfig, Framing, Preset, RayKind};
 use dynray_gpu::{Backend, GpuBuild, GpuOptions, GpuStrategy};
 use dynray_render::{Aov, IntegratorKind};
 use std::path::PathBuf;
@@ -75,7 +75,7 @@ pub struct AdfBuildArgs {
 /// Where rays are traced (docs/gpu.md).
 #[derive(Args, Debug, Default, Clone)]
 pub struct BackendArgs {
-    /// Trace on the CPU or on the GPU (docs/gpu.md; the GPU traces `bvh`).
+    /// Trace on the CPU or on the GPU (docs/gpu.md; the GPU traverses the binary BVH, `bvh2`; plain `bvh` means `bvh2` there).
     #[arg(long, default_value = "cpu", value_parser = PossibleValuesParser::new(Backend::NAMES).map(|s| s.parse::<Backend>().expect("listed names parse")))]
     pub backend: Backend,
     /// GPU adapter: a case-insensitive substring of its name (default: $DYNRAY_GPU_ADAPTER,
@@ -368,6 +368,10 @@ pub struct BenchArgs {
     /// Image height.
     #[arg(long, value_parser = edge_parser(), help = defaults_help("Image height", |c| c.height))]
     pub height: Option<u32>,
+    /// The standard run's camera: the scene's own, or moved to fill the image with the
+    /// model (docs/bench.md, "Side by side").
+    #[arg(long, value_parser = framing_parser(), help = defaults_help("The standard run's camera: `scene` (the scene's own) or `tight` (the same view moved to fill the image with the model)", |c| c.framing.name()))]
+    pub framing: Option<Framing>,
     /// Timed repetitions after one warm-up; medians are reported.
     #[arg(long, value_parser = clap::value_parser!(u64).range(1..).map(|n| n as usize),
         help = defaults_help("Timed repetitions after one warm-up; medians are reported", |c| c.repeat))]
@@ -408,6 +412,12 @@ pub struct BenchArgs {
 fn ray_kind_parser() -> impl TypedValueParser<Value = RayKind> {
     PossibleValuesParser::new(RayKind::ALL.map(RayKind::name))
         .map(|s| s.parse::<RayKind>().expect("listed names parse"))
+}
+
+/// `--framing` values, listed from the bench's own names.
+fn framing_parser() -> impl TypedValueParser<Value = Framing> {
+    PossibleValuesParser::new(Framing::ALL.map(Framing::name))
+        .map(|s| s.parse::<Framing>().expect("listed names parse"))
 }
 
 /// `--preset` values: every preset the bench has, and `all`.

@@ -91,7 +91,7 @@ fn what_the_gpu_cannot_animate_is_refused_before_writing() {
         ),
         (&["--gpu-build", "lbvh"], "add --backend gpu"),
         (&["--backend", "gpu", "--gpu-strategy", "hybrid", "--integrator", "path"], "--gpu-strategy wavefront only"),
-        (&["--backend", "gpu", "--accel", "bih"], "traces `bvh` only"),
+        (&["--backend", "gpu", "--accel", "bih"], "the GPU backend traverses a BVH only"),
     ];
     for (i, (extra, needle)) in cases.into_iter().enumerate() {
         let dir = tmp.path().join(format!("refused-{i}"));

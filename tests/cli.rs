@@ -450,6 +450,6 @@ fn trace_rays_on_the_gpu_writes_the_cpus_hits() {
             "--accel",
             "bih",
         ]),
-        "traces `bvh` only",
+        "the GPU backend traverses a BVH only",
     );
 }

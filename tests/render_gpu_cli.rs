@@ -68,7 +68,9 @@ fn what_the_gpu_does_not_render_is_refused() {
     for strategy in ["megakernel", "hybrid"] {
         fails_with(with(&["--integrator", "path", "--gpu-strategy", strategy]), "--gpu-strategy wavefront only");
     }
-    fails_with(with(&["--accel", "bih"]), "traces `bvh` only");
+    fails_with(with(&["--accel", "bih"]), "the GPU backend traverses a BVH only");
+    // The wide tree's parameters do not describe the binary tree the GPU traverses.
+    fails_with(with(&["--accel", "bvh:width=4"]), "as `bvh2:…`");
     assert!(!out.exists(), "a refused render left an image");
 }
 

@@ -33,14 +33,14 @@ fn first_difference(got: &Film, want: &Film) -> Option<(u32, u32, [f32; 3], [f32
 
 #[test]
 fn every_structure_renders_the_demo_scene_bit_identically_to_the_bvh() {
-    let (reference, ref_stats) = demo_film(AccelKind::Bvh);
+    let (reference, ref_stats) = demo_film(AccelKind::Bvh2);
     assert!(ref_stats.secondary_rays > 0 && ref_stats.shadow_rays > 0, "{ref_stats:?}");
     // The scene must have something on screen, or equality would prove nothing.
     let first = reference.pixels()[0];
     assert!(reference.pixels().iter().any(|p| *p != first), "the demo renders as one colour");
     let mut failures = Vec::new();
     // Brute force is included: at this size and detail it takes well under a second.
-    for &kind in AccelKind::ALL.iter().filter(|&&k| k != AccelKind::Bvh) {
+    for &kind in AccelKind::ALL.iter().filter(|&&k| k != AccelKind::Bvh2) {
         let (film, stats) = demo_film(kind);
         assert_eq!((film.width(), film.height()), (96, 72), "{kind}");
         if let Some((x, y, got, want)) = first_difference(&film, &reference) {
@@ -92,7 +92,7 @@ fn the_binary_writes_the_same_png_for_every_accel_it_is_given() {
 
 #[test]
 fn first_difference_finds_one_changed_bit() {
-    let (a, _) = demo_film(AccelKind::Bvh);
+    let (a, _) = demo_film(AccelKind::Bvh2);
     assert!(first_difference(&a, &a).is_none());
     let mut b = a.clone();
     let c = a.get(17, 5).unwrap();

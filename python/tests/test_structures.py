@@ -61,7 +61,7 @@ def oracle(small_mesh, rays):
 
 def test_registry_lists_every_structure():
     assert dynray.ACCELS[0] == "brute" and "bvh" in dynray.ACCELS and len(dynray.ACCELS) == len(set(dynray.ACCELS))
-    assert {"wbvh", "bih", "kdtree", "kdtree-ropes", "octree", "octree-descent", "grid", "apit", "abuffer"} <= set(dynray.ACCELS)
+    assert {"bvh2", "bih", "kdtree", "kdtree-ropes", "octree", "octree-descent", "grid", "apit", "abuffer"} <= set(dynray.ACCELS)
 
 
 @pytest.mark.parametrize("accel", dynray.ACCELS)

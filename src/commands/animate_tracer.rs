@@ -14,8 +14,7 @@
 use super::fields::{render, Fields};
 use anyhow::{bail, Context, Result};
 use dynray_accel::{
-    Accel, AccelKind, AccelSpec, Bvh, BvhParams, LiveAccel, LiveScene, SceneLayout, UpdateAction, UpdatePolicy,
-    UpdateReport,
+    Accel, AccelSpec, Bvh, BvhParams, LiveAccel, LiveScene, SceneLayout, UpdateAction, UpdatePolicy, UpdateReport,
 };
 use dynray_gpu::{GpuBuild, GpuBvh, GpuContext, GpuIntegrator, GpuOptions, GpuRenderOptions, GpuRenderer, GpuStrategy};
 use dynray_render::{Film, IntegratorKind, RenderOptions, RenderStats};
@@ -77,10 +76,7 @@ impl Tracer {
     /// [`gpu_integrator`]).
     pub fn gpu(spec: &AccelSpec, policy: UpdatePolicy, options: &RenderOptions, gpu: GpuChoice<'_>) -> Result<Self> {
         gpu_integrator(options, gpu.strategy)?;
-        if spec.kind != AccelKind::Bvh {
-            bail!("the GPU backend traces `bvh` only (got `{}`); use --accel bvh or --backend cpu", spec.kind.name());
-        }
-        let params = spec.read().with_context(|| format!("cannot build {spec}"))?;
+        let params = spec.binary_bvh_params().with_context(|| format!("cannot build {spec}"))?;
         let ctx = Arc::new(GpuContext::new(gpu.options)?);
         let renderer = GpuRenderer::new(ctx.clone())?;
         Ok(Tracer::Gpu(Box::new(GpuTracer {

@@ -63,6 +63,9 @@ fn config(a: BenchArgs) -> Result<BenchConfig> {
         c.height = h;
         c.size_given = true;
     }
+    if let Some(f) = a.framing {
+        c.framing = f;
+    }
     if let Some(r) = a.repeat {
         c.repeat = r; // at least 1: clap checks the range
     }

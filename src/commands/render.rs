@@ -4,7 +4,7 @@ use super::fields::{render, render_aov, Fields};
 use super::thousands;
 use crate::cli::RenderArgs;
 use anyhow::{bail, Context, Result};
-use dynray_accel::{AccelKind, Bvh, UpdatePolicy};
+use dynray_accel::{Bvh, UpdatePolicy};
 use dynray_adf::AdfGeometry;
 use dynray_gpu::{GpuBuild, GpuBvh, GpuContext, GpuOptions, GpuRenderOptions, GpuRenderer};
 use dynray_render::{
@@ -292,11 +292,8 @@ fn render_on_gpu(
     if a.aov.is_some() {
         bail!("--aov is rendered on the CPU only; drop --backend gpu");
     }
-    if a.accel.kind != AccelKind::Bvh {
-        bail!("the GPU backend traces `bvh` only (got `{}`); use --accel bvh or --backend cpu", a.accel.kind.name());
-    }
     let cannot_build = || format!("{label}: cannot build {}", a.accel);
-    let params = a.accel.read().with_context(cannot_build)?;
+    let params = a.accel.binary_bvh_params().with_context(cannot_build)?;
     let ctx = Arc::new(GpuContext::new(gpu)?);
     let mut renderer = GpuRenderer::new(ctx.clone())?;
     let options = GpuRenderOptions { strategy: a.gpu_strategy, spp, seed: a.seed, integrator, passes };

@@ -8,11 +8,13 @@ use dynray_geom::{TriangleMesh, Vec3};
 pub enum AccelKind {
     /// [`Brute`](crate::Brute): every triangle for every ray (the oracle).
     Brute,
-    /// [`Bvh`](crate::Bvh): binned-SAH bounding volume hierarchy (seed 003).
+    /// `bvh`, the default: [`Wbvh`](crate::Wbvh), the binned-SAH tree (block cost)
+    /// collapsed to 4- or 8-wide nodes with 4-triangle SIMD leaf blocks, default
+    /// [`WbvhParams`](crate::WbvhParams). The CPU's fastest structure.
     Bvh,
-    /// [`Wbvh`](crate::Wbvh): the same SAH tree collapsed to 4- or 8-wide nodes with
-    /// 4-triangle SIMD leaf blocks, default [`WbvhParams`](crate::WbvhParams).
-    Wbvh,
+    /// `bvh2`: [`Bvh`](crate::Bvh), seed 003's binary binned-SAH bounding volume
+    /// hierarchy: what the GPU backend uploads, and the tree the wide BVH collapses.
+    Bvh2,
     /// [`Bih`](crate::Bih): Bounding Interval Hierarchy (seed 000), default [`BihParams`](crate::BihParams).
     Bih,
     /// [`Grid`](crate::Grid): uniform grid (seed 002's baseline), default [`GridParams`](crate::GridParams).
@@ -42,7 +44,7 @@ impl AccelKind {
     pub const ALL: &'static [AccelKind] = &[
         AccelKind::Brute,
         AccelKind::Bvh,
-        AccelKind::Wbvh,
+        AccelKind::Bvh2,
         AccelKind::Bih,
         AccelKind::KdTree,
         AccelKind::KdTreeRopes,
@@ -62,7 +64,7 @@ impl AccelKind {
             AccelKind::KdTree => "kdtree",
             AccelKind::KdTreeRopes => "kdtree-ropes",
             AccelKind::Bvh => "bvh",
-            AccelKind::Wbvh => "wbvh",
+            AccelKind::Bvh2 => "bvh2",
             AccelKind::Octree => "octree",
             AccelKind::OctreeDescent => "octree-descent",
             AccelKind::Apit => "apit",

@@ -63,8 +63,8 @@ impl AccelSpec {
         }
         match kind {
             AccelKind::Brute => names::<BruteParams>(),
-            AccelKind::Bvh => names::<BvhParams>(),
-            AccelKind::Wbvh => names::<WbvhParams>(),
+            AccelKind::Bvh => names::<WbvhParams>(),
+            AccelKind::Bvh2 => names::<BvhParams>(),
             AccelKind::Bih => names::<BihParams>(),
             AccelKind::KdTree | AccelKind::KdTreeRopes => names::<KdTreeParams>(),
             AccelKind::Octree | AccelKind::OctreeDescent => names::<OctreeParams>(),
@@ -77,8 +77,8 @@ impl AccelSpec {
     pub fn keys(kind: AccelKind) -> Vec<crate::ParamKey> {
         let own = match kind {
             AccelKind::Brute => BruteParams::KEYS,
-            AccelKind::Bvh => BvhParams::KEYS,
-            AccelKind::Wbvh => WbvhParams::KEYS,
+            AccelKind::Bvh => WbvhParams::KEYS,
+            AccelKind::Bvh2 => BvhParams::KEYS,
             AccelKind::Bih => BihParams::KEYS,
             AccelKind::KdTree | AccelKind::KdTreeRopes => KdTreeParams::KEYS,
             AccelKind::Octree | AccelKind::OctreeDescent => OctreeParams::KEYS,
@@ -88,11 +88,29 @@ impl AccelSpec {
         std::iter::once(PRESET_KEY).chain(own.iter().copied()).collect()
     }
 
-    /// The params struct of this spec's kind (`BvhParams` for `bvh`, …), read from its
+    /// The params struct of this spec's kind (`WbvhParams` for `bvh`, `BvhParams` for `bvh2`, …), read from its
     /// pairs and validated: what a caller that needs the concrete structure (the GPU
     /// backend uploads a [`Bvh`]) builds with.
     pub fn read<P: StructureParams>(&self) -> Result<P, BuildError> {
         P::from_pairs(&self.params).map_err(|e| e.in_structure(self.kind.name()))
+    }
+
+    /// The parameters of the binary tree ([`Bvh`]) this spec stands for, for a caller that
+    /// needs that tree itself (the GPU backend uploads and traverses a binary BVH):
+    /// `bvh2`'s own parameters; plain `bvh` means the binary tree with its defaults (the
+    /// wide tree's nodes are the CPU's). `bvh` with parameters (they describe the wide
+    /// tree) and every other structure are a [`BuildError::Spec`] that says what to give.
+    pub fn binary_bvh_params(&self) -> Result<BvhParams, BuildError> {
+        let refuse = |message: &str| Err(BuildError::Spec { spec: self.to_string(), message: message.into() });
+        match self.kind {
+            AccelKind::Bvh2 => self.read(),
+            AccelKind::Bvh if self.params.is_empty() => Ok(BvhParams::default()),
+            AccelKind::Bvh => refuse(
+                "the GPU backend traverses the binary tree `bvh2`, and these parameters describe the CPU's \
+                 wide tree: give the binary tree's as `bvh2:…`, or use --backend cpu",
+            ),
+            _ => refuse("the GPU backend traverses a BVH only: use --accel bvh (or bvh2:…), or --backend cpu"),
+        }
     }
 
     /// Checks every key, value and preset without building anything (for a command line
@@ -100,8 +118,8 @@ impl AccelSpec {
     pub fn check(&self) -> Result<(), BuildError> {
         match self.kind {
             AccelKind::Brute => self.read::<BruteParams>().map(drop),
-            AccelKind::Bvh => self.read::<BvhParams>().map(drop),
-            AccelKind::Wbvh => self.read::<WbvhParams>().map(drop),
+            AccelKind::Bvh => self.read::<WbvhParams>().map(drop),
+            AccelKind::Bvh2 => self.read::<BvhParams>().map(drop),
             AccelKind::Bih => self.read::<BihParams>().map(drop),
             AccelKind::KdTree | AccelKind::KdTreeRopes => self.read::<KdTreeParams>().map(drop),
             AccelKind::Octree | AccelKind::OctreeDescent => self.read::<OctreeParams>().map(drop),
@@ -119,8 +137,8 @@ impl AccelSpec {
                 self.read::<BruteParams>()?;
                 Box::new(Brute::build(mesh)?)
             }
-            AccelKind::Bvh => Box::new(Bvh::build(mesh, &self.read()?)?),
-            AccelKind::Wbvh => Box::new(Wbvh::build(mesh, &self.read()?)?),
+            AccelKind::Bvh => Box::new(Wbvh::build(mesh, &self.read()?)?),
+            AccelKind::Bvh2 => Box::new(Bvh::build(mesh, &self.read()?)?),
             AccelKind::Bih => Box::new(Bih::build(mesh, &self.read()?)?),
             AccelKind::KdTree => Box::new(KdTree::build_with(mesh, &self.read()?)?),
             AccelKind::KdTreeRopes => Box::new(KdTreeRopes::build_with(mesh, &self.read()?)?),

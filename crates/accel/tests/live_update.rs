@@ -41,7 +41,7 @@ fn every_structure_and_policy_traces_each_frame_like_brute_force() {
 fn an_unchanged_frame_keeps_the_structure() {
     let base = bunny();
     for policy in [UpdatePolicy::Rebuild, UpdatePolicy::Refit, UpdatePolicy::default()] {
-        let (mut live, _) = LiveAccel::build(&AccelSpec::new(AccelKind::Bvh), policy, &base, None).unwrap();
+        let (mut live, _) = LiveAccel::build(&AccelSpec::new(AccelKind::Bvh2), policy, &base, None).unwrap();
         assert_eq!(live.update(&base, None).unwrap().action, UpdateAction::Kept, "{policy}");
     }
 }
@@ -49,7 +49,7 @@ fn an_unchanged_frame_keeps_the_structure() {
 #[test]
 fn auto_rebuilds_once_the_refit_cost_drifts_past_its_bound() {
     let base = bunny();
-    let spec = AccelSpec::new(AccelKind::Bvh);
+    let spec = AccelSpec::new(AccelKind::Bvh2);
     // A tight bound: a strong wave makes the refit tree worse than 1 % over a fresh one.
     let (mut live, _) = LiveAccel::build(&spec, UpdatePolicy::Auto { max_cost_ratio: 1.01 }, &base, None).unwrap();
     let strong = wave(&base, 0.05, 2.0);

@@ -62,7 +62,7 @@ macro_rules! oracle_tests {
 oracle_tests!(
     brute: Brute,
     bvh: Bvh,
-    wbvh: Wbvh,
+    bvh2: Bvh2,
     bih: Bih,
     kdtree: KdTree,
     kdtree_ropes: KdTreeRopes,

@@ -10,9 +10,9 @@ use support::*;
 #[test]
 fn registry_builds_the_bvh_by_name() {
     let mesh = bunny();
-    let kind: AccelKind = "bvh".parse().unwrap();
+    let kind: AccelKind = "bvh2".parse().unwrap();
     let accel = kind.build(&mesh).unwrap();
-    assert_eq!(accel.name(), "bvh");
+    assert_eq!(accel.name(), "bvh2");
     let s = accel.stats();
     assert_eq!(s.primitive_refs, mesh.triangle_count());
     assert_eq!(s.leaf_sizes.iter().enumerate().map(|(k, c)| k * c).sum::<usize>(), mesh.triangle_count());

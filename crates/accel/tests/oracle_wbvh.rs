@@ -14,8 +14,7 @@ use support::degenerate::{coplanar_sheet, million_to_one_strip, rays_at};
 use support::*;
 
 /// Every width and kernel, as `--accel` spells them.
-const VARIANTS: [&str; 4] =
-    ["wbvh:width=4", "wbvh:width=8", "wbvh:width=4,kernel=scalar", "wbvh:width=8,kernel=scalar"];
+const VARIANTS: [&str; 4] = ["bvh:width=4", "bvh:width=8", "bvh:width=4,kernel=scalar", "bvh:width=8,kernel=scalar"];
 
 fn build(spec: &str, mesh: &TriangleMesh) -> Box<dyn Accel> {
     let spec: AccelSpec = spec.parse().unwrap();
@@ -51,27 +50,27 @@ fn every_width_and_kernel_matches_brute_on_the_dragon() {
 #[test]
 fn the_scalar_kernel_is_what_kernel_scalar_asks_for() {
     let mesh = bunny();
-    let scalar = build("wbvh:kernel=scalar", &mesh);
+    let scalar = build("bvh:kernel=scalar", &mesh);
     assert_eq!(kernel_of(scalar.as_ref()), "scalar");
     // Without the environment override, `auto` takes AVX2 where the CPU has it.
     #[cfg(target_arch = "x86_64")]
     if std::env::var_os(dynray_accel::wbvh::FORCE_SCALAR_ENV).is_none() && std::arch::is_x86_feature_detected!("avx2") {
-        assert_eq!(kernel_of(build("wbvh", &mesh).as_ref()), "avx2");
+        assert_eq!(kernel_of(build("bvh", &mesh).as_ref()), "avx2");
     }
 }
 
 #[test]
 fn registry_builds_the_wide_bvh_by_name_with_sane_stats() {
     let mesh = bunny();
-    let a = "wbvh".parse::<AccelKind>().unwrap().build(&mesh).unwrap();
-    assert_eq!(a.name(), "wbvh");
+    let a = "bvh".parse::<AccelKind>().unwrap().build(&mesh).unwrap();
+    assert_eq!(a.name(), "bvh");
     let s = a.stats();
     assert_eq!(s.leaf_sizes.iter().enumerate().map(|(k, c)| k * c).sum::<usize>(), mesh.triangle_count());
     assert!(s.sah_cost.is_some_and(|c| c > 1.0) && s.max_depth >= 3, "{s:?}");
     // 256-byte nodes and 160-byte blocks, at least ⌈n/4⌉ of them.
     assert!(s.memory_bytes >= mesh.triangle_count().div_ceil(4) * 160, "{s:?}");
     // The binary BVH is at least 2.5× deeper than its 8-wide collapse on the bunny (18 levels).
-    let bvh = AccelKind::Bvh.build(&mesh).unwrap().stats();
+    let bvh = AccelKind::Bvh2.build(&mesh).unwrap().stats();
     assert!(s.max_depth * 2 <= bvh.max_depth, "wbvh depth {} vs bvh {}", s.max_depth, bvh.max_depth);
 }
 
@@ -138,7 +137,7 @@ fn identical_triangles_tie_to_the_lowest_index() {
 #[test]
 fn refit_follows_a_wave_and_refitting_back_restores_the_tree() {
     let mesh = bunny();
-    for v in ["wbvh:width=4", "wbvh:width=8"] {
+    for v in ["bvh:width=4", "bvh:width=8"] {
         let mut a = build(v, &mesh);
         assert!(a.update_refits(), "{v}");
         let before = a.stats();

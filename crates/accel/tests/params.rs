@@ -67,6 +67,7 @@ fn every_key_is_documented_and_settable_and_every_preset_valid() {
 fn specs_parse_print_and_round_trip() {
     for (text, kind, params) in [
         ("bvh", AccelKind::Bvh, vec![]),
+        ("bvh2:bins=8", AccelKind::Bvh2, vec![("bins", "8")]),
         ("bih:max_prims=5", AccelKind::Bih, vec![("max_prims", "5")]),
         ("bih:max_prims=5,shrink=off", AccelKind::Bih, vec![("max_prims", "5"), ("shrink", "off")]),
         ("octree:fast", AccelKind::Octree, vec![("preset", "fast")]),
@@ -125,7 +126,7 @@ fn parameters_reach_the_built_structure() {
     assert!(build("octree").stats().leaves >= build("octree:balance=off").stats().leaves);
     assert!(build("grid:density=4").stats().nodes > build("grid:density=1").stats().nodes);
     // A spec built without parsing is still checked.
-    let raw = AccelSpec { kind: AccelKind::Bvh, params: kv(&[("leaf", "2")]) };
+    let raw = AccelSpec { kind: AccelKind::Bvh2, params: kv(&[("leaf", "2")]) };
     assert!(matches!(raw.build(&mesh, None), Err(BuildError::UnknownParam { .. })));
 }
 

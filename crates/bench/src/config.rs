@@ -1,5 +1,6 @@
 //! What a bench run is asked to do: the presets and the validated settings.
 
+use crate::framing::Framing;
 use crate::rays::RayKind;
 use anyhow::{Context, Result};
 use dynray_accel::AccelKind;
@@ -70,6 +71,12 @@ impl Preset {
     }
 }
 
+/// The standard run's default image when the competitors are compiled in (feature
+/// `compare`): at 640×480 a shadow or diffuse pass of the bunny is 47k rays and lasts
+/// 3 ms, too short to time against another library. Those runs also frame the model
+/// tightly by default ([`Framing::Tight`]).
+pub const SIDE_BY_SIDE_SIZE: (u32, u32) = (1280, 960);
+
 /// Validated settings of a run.
 #[derive(Clone, Debug)]
 pub struct BenchConfig {
@@ -104,6 +111,8 @@ pub struct BenchConfig {
     pub progress: bool,
     /// Explicit --width/--height given (presets keep their own size otherwise).
     pub size_given: bool,
+    /// The standard run's camera (`--framing`).
+    pub framing: Framing,
     /// `--backend gpu`: measure the GPU backend too (None: the CPU only).
     pub gpu: Option<GpuBench>,
 }
@@ -121,12 +130,25 @@ pub struct GpuBench {
 impl BenchConfig {
     /// The defaults of a full run (`quick` = false) or a quick one.
     pub fn new(quick: bool) -> Self {
+        let side_by_side = cfg!(feature = "compare") && !quick;
         Self {
             scenes: Vec::new(),
             accels: Vec::new(),
             rays: RayKind::ALL.to_vec(),
-            width: if quick { 128 } else { 640 },
-            height: if quick { 96 } else { 480 },
+            width: if quick {
+                128
+            } else if side_by_side {
+                SIDE_BY_SIDE_SIZE.0
+            } else {
+                640
+            },
+            height: if quick {
+                96
+            } else if side_by_side {
+                SIDE_BY_SIDE_SIZE.1
+            } else {
+                480
+            },
             repeat: if quick { 1 } else { 3 },
             presets: vec![Preset::Standard],
             out: PathBuf::from("results"),
@@ -137,6 +159,7 @@ impl BenchConfig {
             png: true,
             progress: true,
             size_given: false,
+            framing: if side_by_side { Framing::Tight } else { Framing::Scene },
             gpu: None,
         }
     }

@@ -11,6 +11,7 @@ pub mod compare;
 pub mod config;
 pub mod fonts;
 pub mod format;
+pub mod framing;
 pub mod gpu;
 pub mod heatmap;
 pub mod legend;
@@ -31,6 +32,7 @@ pub mod variant;
 
 pub use config::{BenchConfig, Preset};
 pub use dynray_accel::AccelSpec;
+pub use framing::Framing;
 pub use rays::RayKind;
 pub use report::Report;
 pub use run::run;

@@ -3,6 +3,7 @@
 //! measured on them (and, with the `compare` feature, the other libraries).
 
 use crate::config::BenchConfig;
+use crate::framing::{frame_tightly, Framing};
 use crate::gpu::{self, GpuSession};
 use crate::heatmap;
 use crate::measure::{measure, oracle, MeasureInput};
@@ -32,6 +33,8 @@ pub struct SceneMeasure {
     pub label: &'static str,
     /// Run the competitor libraries too (feature `compare`; the standard run only).
     pub competitors: bool,
+    /// The camera: the scene's, or moved to fill the image with the model.
+    pub framing: Framing,
 }
 
 /// Measures every structure of `plan` on its scene: the same ray sets and brute-force
@@ -47,9 +50,13 @@ pub fn measure_scenes(
     notes: &mut Vec<String>,
 ) -> Result<Vec<SceneResult>> {
     let names: Vec<String> = plan.iter().map(|(n, _)| n.clone()).collect();
-    let loaded = load_scenes(&names, config.scenes_dir.as_deref())?;
-    let on_gpu =
-        |a: &[AccelSpec]| if gpu.is_some() { a.iter().filter(|v| v.kind == AccelKind::Bvh).count() } else { 0 };
+    let mut loaded = load_scenes(&names, config.scenes_dir.as_deref())?;
+    if how.framing == Framing::Tight {
+        for sc in &mut loaded {
+            frame_tightly(&mut sc.frame, how.width, how.height);
+        }
+    }
+    let on_gpu = |a: &[AccelSpec]| if gpu.is_some() { gpu::gpu_specs(a).len() } else { 0 };
     let steps: usize = plan.iter().map(|(_, a)| a.len() + 1 + on_gpu(a)).sum();
     let bar = progress_bar(config.progress, steps as u64);
     let mut out = Vec::new();
@@ -103,9 +110,9 @@ pub fn measure_scenes(
             bar.inc(1);
         }
         if let Some(g) = gpu.as_deref_mut() {
-            let bvhs: Vec<&AccelSpec> = accels.iter().filter(|v| v.kind == AccelKind::Bvh).collect();
+            let bvhs = gpu::gpu_specs(accels);
             if bvhs.is_empty() {
-                let n = "gpu: the GPU backend traces bvh only: add bvh to --accels to measure it".to_string();
+                let n = "gpu: the GPU backend traces a BVH only: add bvh or bvh2 to --accels to measure it".to_string();
                 if !notes.contains(&n) {
                     notes.push(n);
                 }

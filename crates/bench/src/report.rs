@@ -128,6 +128,14 @@ pub struct ConfigEcho {
     pub quick: bool,
     /// The preset(s) run.
     pub presets: Vec<String>,
+    /// The standard run's camera: `scene` or `tight` (`--framing`; reports written
+    /// before it existed read as `scene`).
+    #[serde(default = "scene_framing")]
+    pub framing: String,
+}
+
+fn scene_framing() -> String {
+    crate::framing::Framing::Scene.name().to_string()
 }
 
 /// One scene of the standard measurements.

@@ -37,6 +37,7 @@ pub fn run(config: &BenchConfig) -> Result<Report> {
             verify_sample: config.verify_sample,
             quick: config.quick,
             presets: config.presets.iter().map(|p| p.name().to_string()).collect(),
+            framing: config.framing.name().to_string(),
         },
         scenes: Vec::new(),
         seed000: None,
@@ -114,6 +115,7 @@ fn standard(
         heatmaps: config.png,
         label: "",
         competitors: true,
+        framing: config.framing,
     };
     report.scenes = measure_scenes(config, &plan, &how, gpu, &mut report.mismatches, &mut report.notes)?;
     Ok(())

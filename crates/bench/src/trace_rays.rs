@@ -214,11 +214,9 @@ fn trace_and_write<Q: BatchQuery + ?Sized>(
 
 /// The job's `bvh` on the adapter `options` choose, built where `job.gpu_build` says.
 fn gpu_bvh(job: &Job<'_>, mesh: &TriangleMesh, options: &dynray_gpu::GpuOptions) -> Result<dynray_gpu::GpuBvh> {
-    if job.accel.kind != dynray_accel::AccelKind::Bvh {
-        bail!("the GPU backend traces `bvh` only (got `{}`); use --accel bvh or --backend cpu", job.accel.kind.name());
-    }
+    let params = job.accel.binary_bvh_params()?;
     let ctx = std::sync::Arc::new(dynray_gpu::GpuContext::new(options)?);
-    Ok(dynray_gpu::GpuBvh::build(ctx, mesh, job.gpu_build, &job.accel.read()?)?.0)
+    Ok(dynray_gpu::GpuBvh::build(ctx, mesh, job.gpu_build, &params)?.0)
 }
 
 /// Any file dynray reads as one triangle mesh with the file's own vertices (what

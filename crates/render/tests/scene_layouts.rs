@@ -130,7 +130,7 @@ fn instanced_robots_equal_the_instanced_oracle_and_hit_the_flat_frames_triangles
 fn a_skinned_figure_is_one_deforming_part_refit_by_the_policy() {
     let scene = scene("CesiumMan/glTF-Binary/CesiumMan.glb");
     let tl = scene.animation.timeline;
-    let spec = AccelSpec::new(AccelKind::Bvh);
+    let spec = AccelSpec::new(AccelKind::Bvh2);
     let mut frame = scene.frame(tl.time_of(0));
     let (mut live, _) = build_live_scene(&spec, UpdatePolicy::Refit, SceneLayout::Instanced, &scene, &frame).unwrap();
     for k in [3, 6] {

@@ -2,6 +2,9 @@
 //! a binary BVH over triangle centroids, split by the surface-area heuristic evaluated on
 //! `k` bins per axis, stored as a flat array of 32-byte nodes.
 //!
+//! This is `--accel bvh2`: what the GPU backend uploads and the tree the wide BVH
+//! (crates/accel/src/wbvh, `--accel bvh`, the default) is collapsed from.
+//!
 //! Files: [`params`] (presets), [`node`] (encoding), `build.rs` (parallel deterministic
 //! builder), `traverse.rs` (closest and any hit), `closest.rs` (closest-point query),
 //! `refit.rs`, `validate.rs`.
@@ -138,7 +141,7 @@ impl Accel for Bvh {
     }
 
     fn name(&self) -> &'static str {
-        "bvh"
+        "bvh2"
     }
 
     fn intersect(&self, ray: &Ray) -> Hit {

@@ -62,7 +62,7 @@ impl Default for BvhParams {
 }
 
 impl StructureParams for BvhParams {
-    const STRUCTURE: &'static str = "bvh";
+    const STRUCTURE: &'static str = "bvh2";
     const KEYS: &'static [ParamKey] = &[
         ParamKey { name: "bins", doc: "SAH bins per axis, 2–256 (default 16)" },
         ParamKey { name: "leaf_size", doc: "nodes under this many triangles become leaves, 2–32 (default 4)" },

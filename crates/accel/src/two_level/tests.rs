@@ -113,7 +113,7 @@ fn rays() -> Vec<Ray> {
 
 #[test]
 fn split_equals_brute_force_on_the_frame_bit_for_bit() {
-    for kind in [AccelKind::Bvh, AccelKind::Bih, AccelKind::KdTree, AccelKind::Grid] {
+    for kind in [AccelKind::Bvh, AccelKind::Bvh2, AccelKind::Bih, AccelKind::KdTree, AccelKind::Grid] {
         let spec = crate::AccelSpec::new(kind);
         let s0 = Scene::at(0);
         let (mut live, _) =

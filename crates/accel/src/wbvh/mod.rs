@@ -7,8 +7,8 @@
 //! scalar specification and kernel choice), `kernel_avx2.rs` (the AVX2 kernel),
 //! `traverse.rs`, `refit.rs`, `validate.rs`.
 //!
-//! The binary `bvh` stays what the GPU backend uploads; this structure is the CPU's fast
-//! path. Figures and what did not pay: docs/structures.md, "The wide BVH".
+//! This is `--accel bvh`, the default structure and the CPU's fast path. The binary tree
+//! it collapses (crates/accel/src/bvh, `--accel bvh2`) stays what the GPU backend uploads. Figures and what did not pay: docs/structures.md, "The wide BVH".
 
 mod block;
 mod collapse;
@@ -127,7 +127,7 @@ impl Wbvh {
 
 impl Accel for Wbvh {
     fn name(&self) -> &'static str {
-        "wbvh"
+        "bvh"
     }
 
     fn intersect(&self, ray: &Ray) -> Hit {

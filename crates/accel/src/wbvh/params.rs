@@ -48,7 +48,7 @@ impl Default for WbvhParams {
 }
 
 impl StructureParams for WbvhParams {
-    const STRUCTURE: &'static str = "wbvh";
+    const STRUCTURE: &'static str = "bvh";
     const KEYS: &'static [ParamKey] = &[
         ParamKey { name: "width", doc: "children per node, 4 or 8 (default 8)" },
         ParamKey { name: "bins", doc: "SAH bins per axis, 2–256 (default 16)" },
@@ -121,7 +121,7 @@ mod tests {
         for (p, want) in bad {
             match p.validate() {
                 Err(BuildError::Param { structure, name, .. }) => {
-                    assert_eq!((structure, name), ("wbvh", want), "{p:?}")
+                    assert_eq!((structure, name), ("bvh", want), "{p:?}")
                 }
                 other => panic!("{p:?}: expected a {want} error, got {other:?}"),
             }

@@ -72,10 +72,21 @@ impl GpuSession {
     }
 }
 
+/// The structures of `accels` the GPU measures: the binary trees (`bvh2…`) asked for, or,
+/// with none, each plain `bvh` (on the GPU, the binary tree with its defaults: see
+/// [`AccelSpec::binary_bvh_params`]), so that the default list measures one GPU tree.
+pub fn gpu_specs(accels: &[AccelSpec]) -> Vec<&AccelSpec> {
+    let binary: Vec<&AccelSpec> = accels.iter().filter(|v| v.kind == AccelKind::Bvh2).collect();
+    if !binary.is_empty() {
+        return binary;
+    }
+    accels.iter().filter(|v| v.binary_bvh_params().is_ok()).collect()
+}
+
 /// The BVH the GPU traces for `spec`: its own parameters when `spec` is a BVH, the
-/// default BVH otherwise (the GPU kernels traverse `bvh` only).
+/// default BVH otherwise (the GPU kernels traverse the binary tree, `bvh2`).
 pub fn bvh_params(spec: &AccelSpec) -> Result<BvhParams> {
-    if spec.kind == AccelKind::Bvh {
+    if spec.kind == AccelKind::Bvh2 {
         spec.read().with_context(|| format!("cannot read the parameters of {spec}"))
     } else {
         Ok(BvhParams::default())

@@ -76,7 +76,7 @@ pub fn run(
 
 /// Whether the structure's update is a refit (else `refit` and `auto` are `rebuild`).
 fn refits(kind: AccelKind) -> bool {
-    matches!(kind, AccelKind::Bvh | AccelKind::Bih | AccelKind::Wbvh)
+    matches!(kind, AccelKind::Bvh2 | AccelKind::Bih | AccelKind::Bvh)
 }
 
 #[allow(clippy::too_many_arguments)]

@@ -28,7 +28,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// The structures measured unless `--accels` names others.
-pub const DEFAULT_STRUCTURES: [&str; 4] = ["bvh", "wbvh", "bih", "kdtree"];
+pub const DEFAULT_STRUCTURES: [&str; 4] = ["bvh", "bvh2", "bih", "kdtree"];
 
 /// The reference scenes (`reference/stats.json` keys; `reference/sphere/NAME.xml|exr`).
 pub const SCENES: [&str; 2] = ["sphere_d2", "sphere_d8"];

@@ -348,7 +348,7 @@ mod tests {
         let mut frame = scene.frame(0.0);
         frame.settings.width = 16;
         frame.settings.height = 12;
-        let bvh = AccelKind::Bvh.build(&frame.mesh).unwrap();
+        let bvh = AccelKind::Bvh2.build(&frame.mesh).unwrap();
         let a = film_of(&frame, bvh.as_ref());
         let mut m = Vec::new();
         assert!(compare(&a, &a, "demo", "bvh", 1, "1 thread", &mut m));

@@ -70,6 +70,7 @@ pub fn run(
         heatmaps: false,
         label: study.preset,
         competitors: false,
+        framing: crate::framing::Framing::Scene,
     };
     let scenes = measure_scenes(config, &study.plan, &how, None, mismatches, notes)?;
     Ok(StudyResult {
