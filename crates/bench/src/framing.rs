@@ -1,5 +1,6 @@
-//! How the standard run's camera frames a model (`--framing`): the scene's own camera, or
-//! the same view moved so that the model fills the image.
+//! How the standard run's camera frames a model (`--framing`): the scene's own camera, or,
+//! for a file without one (a bare mesh), the default view moved so that the model fills
+//! the image. A scene's own camera (the kitchen seen from inside) is always kept.
 //!
 //! The default view of a mesh file frames its bounding sphere from afar, so most primary
 //! rays of a slim model miss (85 % on the bunny): they time the root box test, not the
@@ -18,7 +19,8 @@ pub enum Framing {
     /// The scene's camera (or, for a bare mesh, the default view framing its bounds).
     #[default]
     Scene,
-    /// The scene's view direction, moved so that the model fills the image ([`frame_tightly`]).
+    /// For a file without a camera, the default view's direction, moved so that the model
+    /// fills the image ([`frame_tightly`]); a scene's own camera is kept.
     Tight,
 }
 

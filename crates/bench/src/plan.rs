@@ -52,7 +52,7 @@ pub fn measure_scenes(
     let names: Vec<String> = plan.iter().map(|(n, _)| n.clone()).collect();
     let mut loaded = load_scenes(&names, config.scenes_dir.as_deref())?;
     if how.framing == Framing::Tight {
-        for sc in &mut loaded {
+        for sc in loaded.iter_mut().filter(|sc| !sc.own_camera) {
             frame_tightly(&mut sc.frame, how.width, how.height);
         }
     }

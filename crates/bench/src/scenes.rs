@@ -36,6 +36,9 @@ pub struct BenchScene {
     /// The scene itself when it is animated (`Scene::is_animated`): the dynamic preset
     /// poses it frame by frame.
     pub animated: Option<Scene>,
+    /// The file gives its own camera (a bare mesh gets the default view, which
+    /// `--framing tight` may move).
+    pub own_camera: bool,
 }
 
 /// Where the named models live: `explicit` if given, else `$DYNRAY_SCENES`, else
@@ -98,6 +101,7 @@ pub fn demo() -> BenchScene {
         path: PathBuf::from("(built-in demo scene)"),
         frame: scene.frame(0.0),
         animated: None,
+        own_camera: true,
     }
 }
 
@@ -109,9 +113,10 @@ pub fn load(name: &str, path: &Path) -> Result<BenchScene> {
         bail!("scene `{name}` ({}) has no triangles", path.display());
     }
     scene.add_default_light();
+    let own_camera = scene.camera.is_some();
     let frame = scene.frame(scene.animation.timeline.time_of(0));
     let animated = scene.is_animated().then_some(scene);
-    Ok(BenchScene { name: name.to_string(), path: path.to_path_buf(), frame, animated })
+    Ok(BenchScene { name: name.to_string(), path: path.to_path_buf(), frame, animated, own_camera })
 }
 
 /// Loads the scenes named in `names` (model names, files, or `demo`).
@@ -142,7 +147,7 @@ pub fn load_scenes(names: &[String], dir: Option<&Path>) -> Result<Vec<BenchScen
 fn load_carousel(name: &str, model: &Path) -> Result<BenchScene> {
     let scene = crate::carousel::scene(model)?;
     let frame = scene.frame(scene.animation.timeline.time_of(0));
-    Ok(BenchScene { name: name.to_string(), path: model.to_path_buf(), frame, animated: Some(scene) })
+    Ok(BenchScene { name: name.to_string(), path: model.to_path_buf(), frame, animated: Some(scene), own_camera: true })
 }
 
 #[cfg(test)]
