@@ -113,7 +113,8 @@ pub fn load(name: &str, path: &Path) -> Result<BenchScene> {
         bail!("scene `{name}` ({}) has no triangles", path.display());
     }
     scene.add_default_light();
-    let own_camera = scene.camera.is_some();
+    // `load_file` gives a file without a camera the default view.
+    let own_camera = scene.camera != Some(dynray_scene::Camera::default_view(&scene));
     let frame = scene.frame(scene.animation.timeline.time_of(0));
     let animated = scene.is_animated().then_some(scene);
     Ok(BenchScene { name: name.to_string(), path: path.to_path_buf(), frame, animated, own_camera })
