@@ -38,14 +38,15 @@ fn the_standard_run_measures_the_gpu_on_the_same_rays() {
     let tmp = tempfile::tempdir().unwrap();
     for build in ["cpu", "lbvh"] {
         let out = tmp.path().join(build);
-        let r = bench(&out, &["--scenes", "dragon-res4", "--accels", "bvh", "--gpu-build", build]);
+        // `bvh2`, the binary tree the GPU traverses, so the CPU's row is the uploaded tree.
+        let r = bench(&out, &["--scenes", "dragon-res4", "--accels", "bvh2", "--gpu-build", build]);
         assert_eq!(r["gpu"]["build"], build);
         assert!(r["gpu"]["adapter"].as_str().is_some_and(|a| !a.is_empty()), "{}", r["gpu"]);
         assert!(matches!(r["gpu"]["precision"].as_str(), Some("f64" | "f32")), "{}", r["gpu"]);
         let sc = &r["scenes"][0];
         let (cpu, gpu) = (&sc["structures"][0], &sc["gpu"][0]);
         assert_eq!(sc["gpu"].as_array().map(Vec::len), Some(1), "{build}: {}", sc["gpu"]);
-        assert_eq!(gpu["accel"], "bvh");
+        assert_eq!(gpu["accel"], "bvh2");
         assert!(num(&gpu["build_ms"]) > 0.0 && num(&gpu["time_to_image_ms"]) > 0.0, "{build}: {gpu}");
         assert!(gpu["nodes"].as_u64().is_some_and(|n| n > 0));
         if build == "cpu" {

@@ -76,7 +76,9 @@ impl Tracer {
     /// [`gpu_integrator`]).
     pub fn gpu(spec: &AccelSpec, policy: UpdatePolicy, options: &RenderOptions, gpu: GpuChoice<'_>) -> Result<Self> {
         gpu_integrator(options, gpu.strategy)?;
-        let params = spec.binary_bvh_params().with_context(|| format!("cannot build {spec}"))?;
+        // The GPU traverses the binary tree: plain `bvh` stands for `bvh2` there.
+        let spec = &spec.binary_bvh().with_context(|| format!("cannot build {spec}"))?;
+        let params = spec.read().with_context(|| format!("cannot build {spec}"))?;
         let ctx = Arc::new(GpuContext::new(gpu.options)?);
         let renderer = GpuRenderer::new(ctx.clone())?;
         Ok(Tracer::Gpu(Box::new(GpuTracer {

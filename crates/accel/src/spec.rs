@@ -95,22 +95,27 @@ impl AccelSpec {
         P::from_pairs(&self.params).map_err(|e| e.in_structure(self.kind.name()))
     }
 
-    /// The parameters of the binary tree ([`Bvh`]) this spec stands for, for a caller that
-    /// needs that tree itself (the GPU backend uploads and traverses a binary BVH):
-    /// `bvh2`'s own parameters; plain `bvh` means the binary tree with its defaults (the
-    /// wide tree's nodes are the CPU's). `bvh` with parameters (they describe the wide
-    /// tree) and every other structure are a [`BuildError::Spec`] that says what to give.
-    pub fn binary_bvh_params(&self) -> Result<BvhParams, BuildError> {
+    /// The binary tree ([`Bvh`], `bvh2`) this spec stands for, for a caller that needs
+    /// that tree itself (the GPU backend uploads and traverses a binary BVH): `bvh2` as
+    /// given; plain `bvh` means `bvh2` with its defaults (the wide tree's nodes are the
+    /// CPU's). `bvh` with parameters (they describe the wide tree) and every other
+    /// structure are a [`BuildError::Spec`] that says what to give instead.
+    pub fn binary_bvh(&self) -> Result<AccelSpec, BuildError> {
         let refuse = |message: &str| Err(BuildError::Spec { spec: self.to_string(), message: message.into() });
         match self.kind {
-            AccelKind::Bvh2 => self.read(),
-            AccelKind::Bvh if self.params.is_empty() => Ok(BvhParams::default()),
+            AccelKind::Bvh2 => Ok(self.clone()),
+            AccelKind::Bvh if self.params.is_empty() => Ok(AccelSpec::new(AccelKind::Bvh2)),
             AccelKind::Bvh => refuse(
                 "the GPU backend traverses the binary tree `bvh2`, and these parameters describe the CPU's \
                  wide tree: give the binary tree's as `bvh2:…`, or use --backend cpu",
             ),
             _ => refuse("the GPU backend traverses a BVH only: use --accel bvh (or bvh2:…), or --backend cpu"),
         }
+    }
+
+    /// The parameters of [`AccelSpec::binary_bvh`]'s tree, read and validated.
+    pub fn binary_bvh_params(&self) -> Result<BvhParams, BuildError> {
+        self.binary_bvh()?.read()
     }
 
     /// Checks every key, value and preset without building anything (for a command line

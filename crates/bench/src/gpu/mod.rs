@@ -92,3 +92,26 @@ pub fn bvh_params(spec: &AccelSpec) -> Result<BvhParams> {
         Ok(BvhParams::default())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn specs(list: &str) -> Vec<AccelSpec> {
+        crate::parse_accels(list).unwrap()
+    }
+
+    fn names(list: &str) -> Vec<String> {
+        gpu_specs(&specs(list)).iter().map(|s| s.to_string()).collect()
+    }
+
+    #[test]
+    fn the_gpu_measures_the_binary_trees_asked_for_else_plain_bvh() {
+        assert_eq!(names("bvh,bih"), ["bvh"]);
+        assert_eq!(names("bvh,bvh2:bins=8,bih"), ["bvh2:bins=8"]);
+        // The wide tree's parameters do not describe a binary tree: nothing to measure.
+        assert!(names("bvh:width=4,bih").is_empty());
+        assert!(names("bih,kdtree").is_empty());
+        assert_eq!(bvh_params(&specs("bvh")[0]).unwrap(), BvhParams::default());
+    }
+}
