@@ -5,7 +5,8 @@
 //! Files: [`params`] (presets), [`node`] (node layout and child references), `block.rs`
 //! (leaf blocks and their padding), `collapse.rs` (binary → wide), `kernel.rs` (the
 //! scalar specification and kernel choice), `kernel_avx2.rs` (the AVX2 kernel),
-//! `traverse.rs`, `packet.rs` and `packet_avx2.rs` (8-ray packets for coherent rays),
+//! `traverse.rs`, `packet.rs`, `packet_avx2.rs` and `packet_traverse.rs` (8-ray packets
+//! for coherent rays),
 //! `refit.rs`, `validate.rs`.
 //!
 //! The binary `bvh` stays what the GPU backend uploads; this structure is the CPU's fast
@@ -22,6 +23,7 @@ mod packet;
 mod packet_avx2;
 #[cfg(test)]
 mod packet_tests;
+mod packet_traverse;
 pub mod params;
 mod refit;
 pub(crate) mod scan;
@@ -132,10 +134,22 @@ impl Wbvh {
     /// NaN in it, a non-finite origin) is traced alone, and so is a packet of one.
     /// Panics unless `rays.len() == hits.len() <= PACKET`.
     pub fn intersect_packet(&self, rays: &[Ray], hits: &mut [Hit]) {
+        let mut scratch = self.packet_scratch();
+        self.intersect_packet_in(rays, hits, &mut scratch);
+    }
+
+    /// Working memory for packets of this tree (`intersect_coherent_into` makes one per
+    /// batch).
+    fn packet_scratch(&self) -> packet_traverse::PacketScratch {
+        with_tree!(self, t => packet_traverse::PacketScratch::new(t.stack_need))
+    }
+
+    /// [`Wbvh::intersect_packet`] with `scratch` from [`Wbvh::packet_scratch`].
+    fn intersect_packet_in(&self, rays: &[Ray], hits: &mut [Hit], scratch: &mut packet_traverse::PacketScratch) {
         crate::batch::check_batch_lengths(rays.len(), hits.len());
         let mut p = packet::Packet::new(rays);
         if p.active.count_ones() >= 2 {
-            with_tree!(self, t => t.closest_packet(rays, &p, hits));
+            with_tree!(self, t => t.closest_packet(rays, &p, hits, scratch));
         } else {
             p.active = 0;
         }
@@ -167,8 +181,9 @@ impl Accel for Wbvh {
     /// rays share one origin travels together, other rays alone.
     fn intersect_coherent_into(&self, rays: &[Ray], hits: &mut [Hit]) {
         crate::batch::check_batch_lengths(rays.len(), hits.len());
+        let mut scratch = self.packet_scratch();
         for (rs, hs) in rays.chunks(PACKET).zip(hits.chunks_mut(PACKET)) {
-            self.intersect_packet(rs, hs);
+            self.intersect_packet_in(rs, hs, &mut scratch);
         }
     }
 

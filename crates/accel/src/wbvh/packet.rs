@@ -21,10 +21,9 @@
 //! same masks eight lanes at a time, and `packet_tests.rs` holds both to `Aabb::clip`
 //! and to each other.
 
-use super::kernel::{Kernel, Nears, Scalar};
-use super::node::{is_leaf, leaf_blocks, ChildRef, WideNode};
-use super::WideTree;
-use dynray_geom::{Hit, PreparedRay, Ray, SLAB_MARGIN};
+use super::kernel::{Nears, Scalar};
+use super::node::WideNode;
+use dynray_geom::{Ray, SLAB_MARGIN};
 
 /// Rays per packet (the f32 lanes of one AVX2 register).
 pub const PACKET: usize = 8;
@@ -37,7 +36,8 @@ pub type Lanes = [f32; PACKET];
 pub struct Packet {
     /// The origin every lane shares.
     pub org: [f32; 3],
-    /// `1 / dir` per axis and lane, as `BoxRay::new` computes it.
+    /// `1 / dir` per axis and lane, as `BoxRay::new` computes it; lanes outside
+    /// [`Packet::active`] repeat the lowest active lane's.
     pub inv: [Lanes; 3],
     /// Interval start per lane; lanes outside [`Packet::active`] hold `+∞`.
     pub tmin: Lanes,
@@ -51,6 +51,7 @@ impl Packet {
     /// The packet of the lanes of `rays` (at most 8) that can travel together: those whose
     /// origin has lane 0's bits (finite), with no NaN in direction or interval. The others
     /// stay out of [`Packet::active`] for the caller to trace alone.
+    #[inline(always)]
     pub fn new(rays: &[Ray]) -> Self {
         assert!(rays.len() <= PACKET, "a packet holds at most {PACKET} rays, not {}", rays.len());
         let mut p = Packet {
@@ -79,6 +80,16 @@ impl Packet {
                 p.tmin[l] = r.tmin;
                 p.tmax[l] = r.tmax;
                 p.active |= 1 << l;
+            }
+        }
+        // Lanes out of the packet repeat an active lane's `1/d`, so the frustum may take
+        // the range over all 8 lanes (their empty intervals keep them out of every test).
+        if p.active != 0 {
+            let f = p.active.trailing_zeros() as usize;
+            for l in lanes(!p.active & 0xFF) {
+                for a in 0..3 {
+                    p.inv[a][l] = p.inv[a][f];
+                }
             }
         }
         p
@@ -118,6 +129,7 @@ pub struct Frustum {
 
 impl Frustum {
     /// The frustum of `p`'s active lanes with per-lane limits `limit`.
+    #[inline(always)]
     pub fn new(p: &Packet, limit: &Lanes) -> Self {
         let mut f = Frustum {
             org: p.org,
@@ -127,45 +139,65 @@ impl Frustum {
             tmin: f32::INFINITY,
             limit: f32::NEG_INFINITY,
         };
+        if p.active == 0 {
+            return f;
+        }
+        // Over all 8 lanes: those out of the packet repeat an active lane's `1/d`, and
+        // hold `tmin = +∞` and `limit = −∞`, which change no minimum or maximum.
         for a in 0..3 {
             let (mut lo, mut hi) = (f32::INFINITY, f32::NEG_INFINITY);
             let (mut pos, mut neg) = (true, true);
-            for l in lanes(p.active) {
-                let x = p.inv[a][l];
-                pos &= x > 0.0 && x.is_finite();
-                neg &= x < 0.0 && x.is_finite();
-                lo = lo.min(x);
-                hi = hi.max(x);
+            for &x in &p.inv[a] {
+                pos &= x > 0.0 && x < f32::INFINITY;
+                neg &= x < 0.0 && x > f32::NEG_INFINITY;
+                lo = if x < lo { x } else { lo };
+                hi = if x > hi { x } else { hi };
             }
-            if p.active != 0 && (pos || neg) {
+            if pos || neg {
                 f.sign[a] = if pos { 1 } else { -1 };
                 (f.inv_min[a], f.inv_max[a]) = (lo, hi);
             }
         }
-        for l in lanes(p.active) {
-            f.tmin = f.tmin.min(p.tmin[l]);
+        for &t in &p.tmin {
+            f.tmin = if t < f.tmin { t } else { f.tmin };
         }
         f.limit = max_limit(limit, p.active);
         f
     }
 }
 
-/// The largest `limit` over the lanes of `mask` (`−∞` for none).
+/// The largest `limit` over the lanes of `mask` (`−∞` for none). Limits are never NaN.
 #[inline(always)]
 pub fn max_limit(limit: &Lanes, mask: u32) -> f32 {
-    lanes(mask).fold(f32::NEG_INFINITY, |m, l| m.max(limit[l]))
+    let mut m = f32::NEG_INFINITY;
+    for (l, &x) in limit.iter().enumerate() {
+        let x = if mask >> l & 1 != 0 { x } else { f32::NEG_INFINITY };
+        m = if x > m { x } else { m };
+    }
+    m
 }
 
 /// The lane indices of `mask`, lowest first.
 #[inline(always)]
-pub fn lanes(mut mask: u32) -> impl Iterator<Item = usize> {
-    std::iter::from_fn(move || {
-        (mask != 0).then(|| {
-            let l = mask.trailing_zeros() as usize;
-            mask &= mask - 1;
-            l
-        })
-    })
+pub fn lanes(mask: u32) -> LaneBits {
+    LaneBits(mask)
+}
+
+/// Iterator of [`lanes`].
+pub struct LaneBits(u32);
+
+impl Iterator for LaneBits {
+    type Item = usize;
+
+    #[inline(always)]
+    fn next(&mut self) -> Option<usize> {
+        if self.0 == 0 {
+            return None;
+        }
+        let l = self.0.trailing_zeros() as usize;
+        self.0 &= self.0 - 1;
+        Some(l)
+    }
 }
 
 /// `x` widened outwards as `Aabb::clip` widens an entry (`near`) or exit distance.
@@ -197,8 +229,35 @@ pub trait PacketKernel {
     /// each lane's entry distance in `near` (lanes of the result only).
     fn lanes<N: WideNode>(node: &N, i: usize, p: &Packet, limit: &Lanes, mask: u32, near: &mut Lanes) -> u32;
 
+    /// [`PacketKernel::lanes`] for a packet whose lanes all have a finite, non-zero `1/d`
+    /// of sign `sign[a]` on every axis (a frustum bounded on all three): there a lane
+    /// enters each slab through the plane that sign names (`lo <= hi`) and no NaN
+    /// arises, so the entry and exit distances need no `min`/`max` of the two planes or
+    /// NaN guard — the same numbers, fewer operations.
+    fn lanes_ordered<N: WideNode>(
+        node: &N,
+        i: usize,
+        p: &Packet,
+        sign: &[i32; 3],
+        limit: &Lanes,
+        mask: u32,
+        near: &mut Lanes,
+    ) -> u32;
+
+    /// [`max_limit`], as this kernel computes it.
+    #[inline(always)]
+    fn max_limit(limit: &Lanes, mask: u32) -> f32 {
+        max_limit(limit, mask)
+    }
+
     /// Lanes of `mask` whose `near <= limit`: those still entering a deferred child.
     fn entered(near: &Lanes, limit: &Lanes, mask: u32) -> u32;
+
+    /// Starts loading the cache lines of `x` (a child that some lanes will visit).
+    #[inline(always)]
+    fn prefetch<T>(x: &T) {
+        let _ = x;
+    }
 }
 
 impl PacketKernel for Scalar {
@@ -248,131 +307,37 @@ impl PacketKernel for Scalar {
         out
     }
 
+    #[allow(clippy::needless_range_loop)] // `a` indexes the node's, the packet's and `sign`'s arrays
+    #[inline(always)]
+    fn lanes_ordered<N: WideNode>(
+        node: &N,
+        i: usize,
+        p: &Packet,
+        sign: &[i32; 3],
+        limit: &Lanes,
+        mask: u32,
+        near: &mut Lanes,
+    ) -> u32 {
+        let mut out = 0;
+        for l in lanes(mask) {
+            let (mut n, mut x) = (f32::NEG_INFINITY, f32::INFINITY);
+            for a in 0..3 {
+                let (enter, exit) =
+                    if sign[a] > 0 { (node.lo(a)[i], node.hi(a)[i]) } else { (node.hi(a)[i], node.lo(a)[i]) };
+                n = n.max((enter - p.org[a]) * p.inv[a][l]);
+                x = x.min((exit - p.org[a]) * p.inv[a][l]);
+            }
+            let (n, x) = (widen(n, true), widen(x, false));
+            let n = if p.tmin[l] > n { p.tmin[l] } else { n };
+            let x = if limit[l] < x { limit[l] } else { x };
+            near[l] = n;
+            out |= ((n <= x) as u32) << l;
+        }
+        out
+    }
+
     #[inline(always)]
     fn entered(near: &Lanes, limit: &Lanes, mask: u32) -> u32 {
         lanes(mask).fold(0, |m, l| m | ((near[l] <= limit[l]) as u32) << l)
-    }
-}
-
-/// A deferred child: which lanes enter it, where, and the frustum's entry distance.
-#[derive(Clone, Copy, Default)]
-struct Entry {
-    node: ChildRef,
-    mask: u32,
-    key: f32,
-    near: Lanes,
-}
-
-/// Stack entries of trees whose bound fits (`traverse::stack_need`); deeper trees use
-/// `STACK_CAPACITY`, as the single-ray traversal does.
-const SMALL_STACK: usize = 64;
-
-impl<N: WideNode> WideTree<N> {
-    /// Closest hits of the active lanes of `p` (built from `rays`) into `hits`, with the
-    /// kernel chosen at build time. Lanes outside `p.active` are left untouched.
-    #[allow(unsafe_code)]
-    pub(super) fn closest_packet(&self, rays: &[Ray], p: &Packet, hits: &mut [Hit]) {
-        #[cfg(target_arch = "x86_64")]
-        if self.kernel == super::kernel::KernelChoice::Avx2 {
-            // SAFETY: `KernelChoice::Avx2` is only chosen when AVX2 was detected.
-            return unsafe { self.closest_packet_avx2(rays, p, hits) };
-        }
-        self.closest_packet_sized::<Scalar, Scalar>(rays, p, hits)
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    #[allow(unsafe_code)]
-    unsafe fn closest_packet_avx2(&self, rays: &[Ray], p: &Packet, hits: &mut [Hit]) {
-        use super::kernel_avx2::Avx2;
-        self.closest_packet_sized::<Avx2, Avx2>(rays, p, hits)
-    }
-
-    #[inline(always)]
-    fn closest_packet_sized<K: Kernel, P: PacketKernel>(&self, rays: &[Ray], p: &Packet, hits: &mut [Hit]) {
-        if self.stack_need <= SMALL_STACK {
-            self.closest_packet_with::<K, P, SMALL_STACK>(rays, p, hits)
-        } else {
-            self.closest_packet_with::<K, P, { super::traverse::STACK_CAPACITY }>(rays, p, hits)
-        }
-    }
-
-    /// The packet traversal with an `S`-entry stack (`S >= self.stack_need`: each node
-    /// pushes at most its `W` children and pops one, as in the single-ray traversal).
-    #[inline(always)]
-    fn closest_packet_with<K: Kernel, P: PacketKernel, const S: usize>(
-        &self,
-        rays: &[Ray],
-        p: &Packet,
-        hits: &mut [Hit],
-    ) {
-        let mut best = [Hit::MISS; PACKET];
-        // A lane's limit is `min(best t, tmax)`, as the single-ray traversal culls.
-        let mut limit: Lanes = [f32::NEG_INFINITY; PACKET];
-        for l in lanes(p.active) {
-            limit[l] = best[l].t.min(p.tmax[l]);
-        }
-        let mut frustum = Frustum::new(p, &limit);
-        // The triangle test's constants, per lane, once it reaches a leaf.
-        let mut pr: [Option<PreparedRay>; PACKET] = [None; PACKET];
-        let mut stack = [Entry::default(); S];
-        let mut sp = 0usize;
-        let mut fnear: Nears = [0.0; 8];
-        let (mut cur, mut mask): (ChildRef, u32) = (0, p.active);
-        'walk: loop {
-            if is_leaf(cur) {
-                let (first, count) = leaf_blocks(cur);
-                for b in &self.blocks[first..first + count] {
-                    for l in lanes(mask) {
-                        let r = pr[l].get_or_insert_with(|| PreparedRay::new(&rays[l]));
-                        K::closest(b, r, &mut best[l]);
-                    }
-                }
-                for l in lanes(mask) {
-                    limit[l] = best[l].t.min(p.tmax[l]);
-                }
-                frustum.limit = max_limit(&limit, p.active);
-            } else {
-                let node = &self.nodes[cur as usize];
-                let mut fm = P::frustum(node, &frustum, &mut fnear);
-                let start = sp;
-                while fm != 0 {
-                    let i = fm.trailing_zeros() as usize;
-                    fm &= fm - 1;
-                    let mut e = Entry { node: node.child(i), mask: 0, key: fnear[i], near: [0.0; PACKET] };
-                    e.mask = P::lanes(node, i, p, &limit, mask, &mut e.near);
-                    if e.mask == 0 {
-                        continue;
-                    }
-                    // Keep the pushed run sorted, nearest (by the frustum) on top.
-                    let mut j = sp;
-                    while j > start && stack[j - 1].key < e.key {
-                        stack[j] = stack[j - 1];
-                        j -= 1;
-                    }
-                    stack[j] = e;
-                    sp += 1;
-                }
-                if sp > start {
-                    sp -= 1;
-                    (cur, mask) = (stack[sp].node, stack[sp].mask);
-                    continue;
-                }
-            }
-            // Pop the next child some lane still enters no later than its best hit.
-            while sp > 0 {
-                sp -= 1;
-                let e = &stack[sp];
-                let m = P::entered(&e.near, &limit, e.mask);
-                if m != 0 {
-                    (cur, mask) = (e.node, m);
-                    continue 'walk;
-                }
-            }
-            break;
-        }
-        for l in lanes(p.active) {
-            hits[l] = best[l];
-        }
     }
 }

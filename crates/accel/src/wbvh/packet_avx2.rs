@@ -135,6 +135,66 @@ impl PacketKernel for Avx2 {
         }
     }
 
+    #[allow(clippy::needless_range_loop)] // `a` indexes the node's, the packet's and `sign`'s arrays
+    #[inline(always)]
+    fn lanes_ordered<N: WideNode>(
+        node: &N,
+        i: usize,
+        p: &Packet,
+        sign: &[i32; 3],
+        limit: &Lanes,
+        mask: u32,
+        near: &mut Lanes,
+    ) -> u32 {
+        // SAFETY: see the file's header.
+        unsafe {
+            let (mut n, mut x) = (_mm256_set1_ps(f32::NEG_INFINITY), _mm256_set1_ps(f32::INFINITY));
+            for a in 0..3 {
+                let (enter, exit) =
+                    if sign[a] > 0 { (node.lo(a)[i], node.hi(a)[i]) } else { (node.hi(a)[i], node.lo(a)[i]) };
+                let o = _mm256_set1_ps(p.org[a]);
+                let inv = cast::<Lanes, __m256>(p.inv[a]);
+                n = _mm256_max_ps(n, _mm256_mul_ps(_mm256_sub_ps(_mm256_set1_ps(enter), o), inv));
+                x = _mm256_min_ps(x, _mm256_mul_ps(_mm256_sub_ps(_mm256_set1_ps(exit), o), inv));
+            }
+            let zero = _mm256_setzero_ps();
+            let n = widen!(_mm256_cmp_ps, _mm256_blendv_ps, _mm256_set1_ps, _mm256_mul_ps, zero, n, true);
+            let x = widen!(_mm256_cmp_ps, _mm256_blendv_ps, _mm256_set1_ps, _mm256_mul_ps, zero, x, false);
+            let n = _mm256_max_ps(cast::<Lanes, __m256>(p.tmin), n);
+            let x = _mm256_min_ps(cast::<Lanes, __m256>(*limit), x);
+            *near = cast(n);
+            (_mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(n, x)) as u32) & mask
+        }
+    }
+
+    #[inline(always)]
+    fn max_limit(limit: &Lanes, mask: u32) -> f32 {
+        // SAFETY: see the file's header.
+        unsafe {
+            let bits = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+            let on = _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(mask as i32), bits), bits);
+            let v = _mm256_blendv_ps(
+                _mm256_set1_ps(f32::NEG_INFINITY),
+                cast::<Lanes, __m256>(*limit),
+                _mm256_castsi256_ps(on),
+            );
+            // Limits are never NaN, so the order of the `max`es does not matter.
+            let h = _mm_max_ps(_mm256_castps256_ps128(v), _mm256_extractf128_ps::<1>(v));
+            let h = _mm_max_ps(h, _mm_movehl_ps(h, h));
+            let h = _mm_max_ss(h, _mm_shuffle_ps::<0b01>(h, h));
+            _mm_cvtss_f32(h)
+        }
+    }
+
+    #[inline(always)]
+    fn prefetch<T>(x: &T) {
+        let p = x as *const T as *const i8;
+        for line in (0..std::mem::size_of::<T>()).step_by(64) {
+            // SAFETY: a prefetch never faults; the address is inside `x` anyway.
+            unsafe { _mm_prefetch::<_MM_HINT_T0>(p.wrapping_add(line)) }
+        }
+    }
+
     #[inline(always)]
     fn entered(near: &Lanes, limit: &Lanes, mask: u32) -> u32 {
         // SAFETY: see the file's header.
@@ -174,6 +234,42 @@ impl Avx2 {
         assert!(std::arch::is_x86_feature_detected!("avx2"));
         // SAFETY: AVX2 checked on the line above.
         unsafe { go(node, i, p, limit, mask, near) }
+    }
+
+    pub(super) fn lanes_ordered_checked<N: WideNode>(
+        node: &N,
+        i: usize,
+        p: &Packet,
+        sign: &[i32; 3],
+        limit: &Lanes,
+        mask: u32,
+        near: &mut Lanes,
+    ) -> u32 {
+        #[target_feature(enable = "avx2")]
+        fn go<N: WideNode>(
+            node: &N,
+            i: usize,
+            p: &Packet,
+            sign: &[i32; 3],
+            limit: &Lanes,
+            mask: u32,
+            near: &mut Lanes,
+        ) -> u32 {
+            <Avx2 as PacketKernel>::lanes_ordered(node, i, p, sign, limit, mask, near)
+        }
+        assert!(std::arch::is_x86_feature_detected!("avx2"));
+        // SAFETY: AVX2 checked on the line above.
+        unsafe { go(node, i, p, sign, limit, mask, near) }
+    }
+
+    pub(super) fn max_limit_checked(limit: &Lanes, mask: u32) -> f32 {
+        #[target_feature(enable = "avx2")]
+        fn go(limit: &Lanes, mask: u32) -> f32 {
+            <Avx2 as PacketKernel>::max_limit(limit, mask)
+        }
+        assert!(std::arch::is_x86_feature_detected!("avx2"));
+        // SAFETY: AVX2 checked on the line above.
+        unsafe { go(limit, mask) }
     }
 
     pub(super) fn entered_checked(near: &Lanes, limit: &Lanes, mask: u32) -> u32 {

@@ -19,7 +19,7 @@ fn node<N: WideNode>(rng: &mut SmallRng, i: usize) -> (N, Vec<Aabb>) {
     let mut node = N::empty();
     let mut boxes = Vec::new();
     for _ in 0..(1 + i % N::W) {
-        let (a, b) = if i % 3 == 0 {
+        let (a, b) = if i.is_multiple_of(3) {
             let v = |rng: &mut SmallRng| {
                 Vec3::new(rng.gen_range(-4.0..4.0), rng.gen_range(-4.0..4.0), rng.gen_range(-4.0..4.0))
             };
@@ -38,12 +38,12 @@ fn node<N: WideNode>(rng: &mut SmallRng, i: usize) -> (N, Vec<Aabb>) {
 /// exactly zero or of one sign), grid directions (zero components, mixed signs) or
 /// random ones, with intervals that include empty, negative and zero-length ones.
 fn packet_rays(rng: &mut SmallRng, i: usize) -> Vec<Ray> {
-    let o = if i % 2 == 0 {
+    let o = if i.is_multiple_of(2) {
         grid(rng)
     } else {
         Vec3::new(rng.gen_range(-5.0..5.0), rng.gen_range(-5.0..5.0), rng.gen_range(-5.0..5.0))
     };
-    let n = if i % 4 == 0 { rng.gen_range(1..=PACKET) } else { PACKET };
+    let n = if i.is_multiple_of(4) { rng.gen_range(1..=PACKET) } else { PACKET };
     let base = Vec3::new(rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0));
     let zero_axis = rng.gen_range(0..6);
     (0..n)
@@ -80,12 +80,14 @@ fn limits(rng: &mut SmallRng, p: &Packet) -> Lanes {
 
 type LanesFn<N> = fn(&N, usize, &Packet, &Lanes, u32, &mut Lanes) -> u32;
 type FrustumFn<N> = fn(&N, &Frustum, &mut Nears) -> u32;
+type OrderedFn<N> = fn(&N, usize, &Packet, &[i32; 3], &Lanes, u32, &mut Lanes) -> u32;
 
-/// Each lane's mask bit and entry distance are `Aabb::clip`'s for that lane's ray, and
-/// the frustum accepts every child some lane enters.
-fn check<N: WideNode>(lane_test: LanesFn<N>, frustum: FrustumFn<N>) {
+/// Each lane's mask bit and entry distance are `Aabb::clip`'s for that lane's ray (by
+/// both lane tests, the ordered one where the frustum is bounded on every axis), and the
+/// frustum accepts every child some lane enters.
+fn check<N: WideNode>(lane_test: LanesFn<N>, ordered: OrderedFn<N>, frustum: FrustumFn<N>) {
     let mut rng = SmallRng::seed_from_u64(11);
-    let (mut entered, mut culled) = (0, 0);
+    let (mut entered, mut culled, mut ordered_checks) = (0, 0, 0);
     for i in 0..30_000 {
         let (node, boxes) = node::<N>(&mut rng, i);
         let rays = packet_rays(&mut rng, i);
@@ -99,12 +101,22 @@ fn check<N: WideNode>(lane_test: LanesFn<N>, frustum: FrustumFn<N>) {
         for (k, bx) in boxes.iter().enumerate() {
             let mut near = [0.0; PACKET];
             let mask = lane_test(&node, k, &p, &limit, p.active, &mut near);
+            let bounded = f.sign.iter().all(|&s| s != 0);
+            let (mut near_o, mut mask_o) = ([0.0; PACKET], mask);
+            if bounded {
+                mask_o = ordered(&node, k, &p, &f.sign, &limit, p.active, &mut near_o);
+                ordered_checks += 1;
+            }
             for (l, r) in rays.iter().enumerate() {
                 let want = bx.clip(&PreparedRay::new(r), r.tmin, limit[l]);
                 assert_eq!(mask >> l & 1 == 1, want.is_some(), "box {bx:?} lane {l} ray {r:?} limit {}", limit[l]);
+                assert_eq!(mask_o >> l & 1 == 1, want.is_some(), "ordered: box {bx:?} lane {l} ray {r:?}");
                 if let Some((n, _)) = want {
                     // Equal as numbers (-0 and +0 may differ; entry distances are only compared).
                     assert_eq!(near[l], n, "box {bx:?} lane {l} ray {r:?}");
+                    if bounded {
+                        assert_eq!(near_o[l], n, "ordered: box {bx:?} lane {l} ray {r:?}");
+                    }
                 }
             }
             assert_eq!(mask & !p.active, 0);
@@ -121,12 +133,13 @@ fn check<N: WideNode>(lane_test: LanesFn<N>, frustum: FrustumFn<N>) {
     }
     // Both outcomes must be common, or the superset check proves little.
     assert!(entered > 10_000 && culled > 10_000, "entered {entered}, culled by the frustum {culled}");
+    assert!(ordered_checks > 10_000, "{ordered_checks} boxes through the ordered lane test");
 }
 
 #[test]
 fn scalar_packet_tests_are_the_single_ray_box_test_and_the_frustum_a_superset() {
-    check::<Node4>(Scalar::lanes, Scalar::frustum);
-    check::<Node8>(Scalar::lanes, Scalar::frustum);
+    check::<Node4>(Scalar::lanes, Scalar::lanes_ordered, Scalar::frustum);
+    check::<Node8>(Scalar::lanes, Scalar::lanes_ordered, Scalar::frustum);
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -137,11 +150,11 @@ fn avx2_packet_tests_are_the_single_ray_box_test_and_the_frustum_a_superset() {
         eprintln!("skipped: this CPU has no AVX2");
         return;
     }
-    check::<Node4>(Avx2::lanes_checked, Avx2::frustum_checked);
-    check::<Node8>(Avx2::lanes_checked, Avx2::frustum_checked);
+    check::<Node4>(Avx2::lanes_checked, Avx2::lanes_ordered_checked, Avx2::frustum_checked);
+    check::<Node8>(Avx2::lanes_checked, Avx2::lanes_ordered_checked, Avx2::frustum_checked);
 }
 
-/// The AVX2 frustum and `entered` give the scalar masks and distances.
+/// The AVX2 frustum, `entered` and `max_limit` give the scalar answers.
 #[cfg(target_arch = "x86_64")]
 #[test]
 fn avx2_frustum_and_entered_are_the_scalar_ones() {
@@ -166,6 +179,7 @@ fn avx2_frustum_and_entered_are_the_scalar_ones() {
             let near: Lanes = std::array::from_fn(|_| [0.0, 1.0, 0.5, f32::INFINITY, -1.0][rng.gen_range(0..5)]);
             let mask = rng.gen_range(0..256u32);
             assert_eq!(Scalar::entered(&near, &limit, mask), Avx2::entered_checked(&near, &limit, mask));
+            assert_eq!(Scalar::max_limit(&limit, mask), Avx2::max_limit_checked(&limit, mask), "{limit:?} {mask:#b}");
         }
     }
     go::<Node4>();
