@@ -476,6 +476,9 @@ impl Competitor for Packet8 {
     fn kinds(&self) -> Option<&'static [RayKind]> {
         Some(&[RayKind::Primary])
     }
+    fn packets(&self) -> bool {
+        true
+    }
     fn build(&self, mesh: &TriangleMesh) -> Result<Built> {
         let scene = self.0.build(mesh)?;
         Ok(Built { memory_bytes: scene.bytes, query: Box::new(Packets(scene)), any_hit: true })
