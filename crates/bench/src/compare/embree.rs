@@ -392,7 +392,7 @@ impl BatchQuery for Packets {
     }
 }
 
-const _: () = assert!(super::CHUNK % 8 == 0, "packets must not straddle chunks");
+const _: () = assert!(super::CHUNK.is_multiple_of(8), "packets must not straddle chunks");
 
 impl Packets {
     fn closest(&self, rays: &[Ray], out: &mut [Hit]) {
