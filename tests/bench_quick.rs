@@ -36,6 +36,9 @@ fn check_report(r: &Value) -> Vec<String> {
         check_scene(sc, &rays, repeat, true, &mut p);
         let n = sc["structures"].as_array().map_or(0, Vec::len);
         need(&mut p, n == accels, format!("standard {}: {n} structures, config names {accels}", sc["name"]));
+        // The wide BVH traces primary rays in packets too (docs/bench.md, "Packets").
+        let packets = sc["structures"].as_array().into_iter().flatten().filter(|s| !s["primary_packets"].is_null());
+        need(&mut p, packets.count() > 0, format!("standard {}: no structure measured in packets", sc["name"]));
     }
     for preset in ["seed000", "seed002", "seed004"] {
         let s = &r[preset];
@@ -405,6 +408,22 @@ fn check_scene(sc: &Value, kinds: &[&str], repeat: usize, time_to_image: bool, p
                 p.push(format!("{label}: inconsistent {kind} figures {k}"));
             }
         }
+        // The packet pass: the primary rays again, the same hits, every ray checked.
+        let pk = &s["primary_packets"];
+        if !pk.is_null() {
+            let primary = measured.iter().find(|k| k["kind"] == "primary");
+            let ok = primary.is_some_and(|pr| {
+                pk["kind"] == "primary-packet"
+                    && pk["rays"] == pr["rays"]
+                    && pk["hits"] == pr["hits"]
+                    && pk["verified"] == pr["verified"]
+                    && pk["trace_ms_runs"].as_array().is_some_and(|v| v.len() == repeat)
+                    && num(&pk["mrays_per_s"]) > 0.0
+            });
+            if !ok {
+                p.push(format!("{label}: inconsistent packet figures {pk}"));
+            }
+        }
     }
 }
 
@@ -432,6 +451,9 @@ fn quick_bench_of_every_preset_writes_a_complete_consistent_report() {
     let w = if primary["hit_work"].is_null() { "escaped_work" } else { "hit_work" };
     primary[w]["nodes"] = (primary[w]["nodes"].as_f64().unwrap() + 1.0).into();
     bad["seed003"]["sweeps"]["lights"].as_array_mut().unwrap().pop();
+    let packets =
+        bad["scenes"][1]["structures"].as_array_mut().unwrap().iter_mut().find(|s| !s["primary_packets"].is_null());
+    packets.expect("a structure with packets")["primary_packets"]["hits"] = 0.into();
     bad["seed004_renderers"]["runs"][1]["images_identical"] = false.into();
     bad["path"]["scenes"][0]["convergence"].as_array_mut().unwrap().remove(1);
     bad["seed001"]["runs"][0]["bytes"][0] = 1.into();
@@ -440,6 +462,7 @@ fn quick_bench_of_every_preset_writes_a_complete_consistent_report() {
     let found = check_report(&bad).join("\n");
     for what in [
         "inconsistent ratio",
+        "inconsistent packet figures",
         "ray kinds measured",
         "trace_ms has",
         "does not add up",

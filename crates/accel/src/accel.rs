@@ -21,6 +21,25 @@ pub trait Accel: Send + Sync + std::any::Any {
     /// True when anything lies on the ray within `[tmin, tmax]` (shadow rays).
     fn occluded(&self, ray: &Ray) -> bool;
 
+    /// Closest hits of rays the caller expects to be coherent (camera rays of neighbouring
+    /// pixels, in order): `hits[i]` is exactly [`Accel::intersect`] of `rays[i]` — the same
+    /// triangle and the same `t`, `u`, `v` bits. Structures with packet traversal
+    /// ([`Accel::traces_packets`]) trace groups of consecutive rays together; the default
+    /// traces them one at a time. Runs on the calling thread (callers parallelise over
+    /// batches, as [`crate::batch::Coherent`] does). Panics unless the lengths match.
+    fn intersect_coherent_into(&self, rays: &[Ray], hits: &mut [Hit]) {
+        crate::batch::check_batch_lengths(rays.len(), hits.len());
+        for (r, h) in rays.iter().zip(hits) {
+            *h = self.intersect(r);
+        }
+    }
+
+    /// True when [`Accel::intersect_coherent_into`] traces packets rather than one ray at
+    /// a time (the bench measures the packet path only then).
+    fn traces_packets(&self) -> bool {
+        false
+    }
+
     /// [`Accel::intersect`] that also counts the nodes (or cells) visited and the
     /// triangles tested, for the bench and the heat maps. The plain path pays nothing.
     fn intersect_counted(&self, ray: &Ray, counts: &mut TraversalCounts) -> Hit;

@@ -66,6 +66,29 @@ impl<T: Accel + ?Sized> BatchQuery for T {
     }
 }
 
+/// [`BatchQuery`] for rays the caller knows to be coherent (camera rays in pixel order):
+/// closest hits through [`Accel::intersect_coherent_into`] (packets where the structure
+/// has them), parallel over the same chunks of [`BATCH_CHUNK`] rays as the blanket
+/// implementation; any-hit queries one ray at a time. The answers are the blanket
+/// implementation's, bit for bit; only the speed differs.
+pub struct Coherent<'a, A: ?Sized>(pub &'a A);
+
+// Packets are groups of consecutive rays: a chunk boundary must not split one.
+const _: () = assert!(BATCH_CHUNK.is_multiple_of(crate::wbvh::PACKET), "chunks must hold whole packets");
+
+impl<A: Accel + ?Sized> BatchQuery for Coherent<'_, A> {
+    fn intersect_into(&self, rays: &[Ray], hits: &mut [Hit]) {
+        check_batch_lengths(rays.len(), hits.len());
+        rays.par_chunks(BATCH_CHUNK)
+            .zip(hits.par_chunks_mut(BATCH_CHUNK))
+            .for_each(|(rs, hs)| self.0.intersect_coherent_into(rs, hs));
+    }
+
+    fn occluded_into(&self, rays: &[Ray], out: &mut [bool]) {
+        self.0.occluded_into(rays, out);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -66,7 +66,7 @@ pub mod wbvh;
 
 pub use accel::{Accel, AccelStats, InvalidStructure, LeafSizes};
 pub use apit::{ABuffer, Apit, ApitParams, Fragment};
-pub use batch::{check_batch_lengths, BatchQuery, BATCH_CHUNK};
+pub use batch::{check_batch_lengths, BatchQuery, Coherent, BATCH_CHUNK};
 pub use bih::{Bih, BihParams};
 pub use brute::Brute;
 pub use bvh::{Bvh, BvhNode, BvhParams, ClosestPoint, InvalidBvh};

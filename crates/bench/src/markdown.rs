@@ -40,6 +40,15 @@ fn side_by_side(s: &mut String, sc: &crate::report::SceneResult, rays: &[String]
             let _ = write!(s, " {v} |");
         }
         let _ = writeln!(s);
+        // Our packet path, which packet variants are compared with.
+        if let Some(p) = &o.primary_packets {
+            let _ = write!(s, "| dynray (ours) | {} packets | | |", o.accel);
+            for k in rays {
+                let v = if k == "primary" { num(p.mrays_per_s) } else { "—".into() };
+                let _ = write!(s, " {v} |");
+            }
+            let _ = writeln!(s);
+        }
     }
     for c in &sc.competitors {
         let _ = write!(
@@ -177,6 +186,19 @@ pub fn render(r: &Report, png: bool) -> String {
                 let _ = write!(s, " {v} |");
             }
             let _ = writeln!(s, " {} |", st.time_to_image_ms.map(num).unwrap_or_else(|| "—".into()));
+        }
+        for st in &sc.structures {
+            if let (Some(p), Some(single)) = (&st.primary_packets, st.kinds.iter().find(|k| k.kind == "primary")) {
+                let ratio = (single.mrays_per_s > 0.0).then(|| p.mrays_per_s / single.mrays_per_s);
+                let _ = writeln!(
+                    s,
+                    "\n`{}` primary rays in packets of 8 (one origin): {} Mrays/s, {} of its single rays; {} checked.",
+                    st.accel,
+                    num(p.mrays_per_s),
+                    ratio.map(|r| format!("{}×", num(r))).unwrap_or_else(|| "—".into()),
+                    thousands(p.verified as u64)
+                );
+            }
         }
         let _ = writeln!(s, "\nWork per ray (counted pass: nodes visited / triangles tested), hits, rays checked:\n");
         let mut head = "| structure |".to_string();

@@ -5,7 +5,7 @@ use crate::rays::{RayKind, RaySets};
 use crate::report::{median, KindResult, Mismatch, StructureResult, Work};
 use anyhow::{Context, Result};
 use dynray_accel::AccelSpec;
-use dynray_accel::{Accel, BatchQuery, TraversalCounts};
+use dynray_accel::{Accel, BatchQuery, Coherent, TraversalCounts};
 use dynray_geom::{Hit, Ray};
 use dynray_render::{render, RenderOptions};
 use dynray_scene::Frame;
@@ -222,12 +222,18 @@ pub fn measure(
     let stats = accel.stats();
     let mut kinds = Vec::new();
     let mut heat = None;
+    let mut primary_packets = None;
     for (kind, rays) in &input.sets.sets {
         step(kind.name());
         let (k, work) = measure_kind(accel.as_ref(), accel.as_ref(), &label, input, *kind, rays, mismatches);
         kinds.push(k);
         if *kind == RayKind::Primary {
             heat = Some(work);
+            if accel.traces_packets() {
+                // Right after the single rays, so both passes see the same machine load.
+                step("primary (packets)");
+                primary_packets = Some(measure_packets(accel.as_ref(), &label, input, rays, mismatches));
+            }
         }
     }
     drop(accel);
@@ -246,6 +252,7 @@ pub fn measure(
         sah_cost: stats.sah_cost,
         extra: stats.extra,
         kinds,
+        primary_packets,
         time_to_image_ms,
         render_ms,
         render_rays,
@@ -304,6 +311,24 @@ pub fn measure_kind<Q: BatchQuery + ?Sized>(
         verified,
     };
     (result, counted.work)
+}
+
+/// The kind name of [`crate::report::StructureResult::primary_packets`].
+pub const PRIMARY_PACKET: &str = "primary-packet";
+
+/// The primary rays through `accel`'s packet path ([`Coherent`]), measured and checked
+/// as [`measure_kind`] measures the single rays (mismatches labelled `LABEL (packets)`).
+fn measure_packets(
+    accel: &dyn Accel,
+    label: &str,
+    input: &MeasureInput<'_>,
+    rays: &[Ray],
+    mismatches: &mut Vec<Mismatch>,
+) -> KindResult {
+    let label = format!("{label} (packets)");
+    let (mut k, _) = measure_kind(&Coherent(accel), accel, &label, input, RayKind::Primary, rays, mismatches);
+    k.kind = PRIMARY_PACKET.to_string();
+    k
 }
 
 /// Build + Whitted render at the bench size, `repeat` times: medians of the whole and of

@@ -196,6 +196,14 @@ pub struct StructureResult {
     pub extra: Vec<(String, String)>,
     /// Per ray kind.
     pub kinds: Vec<KindResult>,
+    /// The primary rays once more, through the structure's packet path
+    /// (`Accel::intersect_coherent_into`: 8 consecutive rays of one origin traced
+    /// together), timed right after the single-ray primary pass and checked against the
+    /// same brute-force answers; `kind` is `primary-packet`, the work per ray is the
+    /// single rays' (counted pass). `null` for structures without packets (and absent
+    /// from reports written before it existed).
+    #[serde(default)]
+    pub primary_packets: Option<KindResult>,
     /// Whitted render of the frame at the bench size: build + render, median, ms (`null`
     /// when the preset does not measure it).
     pub time_to_image_ms: Option<f64>,
@@ -361,8 +369,15 @@ pub struct CompetitorKind {
     pub agreement: f64,
     /// Largest |t − t_brute| / |t_brute| over the rays with the same triangle.
     pub max_rel_t_diff: f64,
-    /// Our Mrays/s / theirs (> 1: ours traces faster).
+    /// Our Mrays/s / theirs (> 1: ours traces faster), ours being the entry
+    /// [`CompetitorKind::ours_kind`] names.
     pub ours_over_theirs_speed: Option<f64>,
+    /// Which of our figures the speed ratio compares with: the same kind (`primary`, …),
+    /// or `primary-packet` (our [`StructureResult::primary_packets`]) for a packet
+    /// variant where our structure has packets. `null` without a ratio (and absent from
+    /// reports written before it existed).
+    #[serde(default)]
+    pub ours_kind: Option<String>,
 }
 
 /// `--preset seed003`: the Whitted tracer on one thread against the same tracer on every

@@ -13,7 +13,7 @@
 //! binary prints them on stderr), and [`Summary`]'s `Display` is the binary's last line.
 
 use anyhow::{bail, Context, Result};
-use dynray_accel::{AccelSpec, BatchQuery};
+use dynray_accel::{AccelSpec, BatchQuery, Coherent};
 use dynray_geom::{Hit, Ray, TriangleMesh};
 use npyz::WriterBuilder;
 use std::io::{BufWriter, Write};
@@ -165,7 +165,10 @@ pub fn run(job: &Job<'_>, notices: &mut dyn FnMut(Notice)) -> Result<Summary> {
         None => {
             let cpu = job.accel.build(&mesh, None).with_context(cannot_build)?;
             let build = t0.elapsed();
-            let (h, t, w) = trace_and_write(job, &*cpu, &rays, &mesh)?;
+            // Closest hits through the coherent path: groups of 8 consecutive rays with one
+            // origin (a camera's) go through the structure's packets where it has them;
+            // the answers are the single rays', bit for bit.
+            let (h, t, w) = trace_and_write(job, &Coherent(cpu.as_ref()), &rays, &mesh)?;
             (h, t, w, (cpu.name(), build))
         }
         Some(options) => {

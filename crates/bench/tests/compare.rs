@@ -100,3 +100,47 @@ fn a_broken_answer_is_seen_as_disagreement() {
         assert!(a.fraction() < 0.999);
     }
 }
+
+/// `embree packet8`'s speed ratio compares with our packet path, `embree single-ray`'s
+/// primary ratio with our single rays: each names the entry it used.
+#[test]
+fn packet8_is_compared_with_our_packets_and_single_rays_with_our_single_rays() {
+    use dynray_bench::measure::{measure, MeasureInput};
+    let dir = scenes::scenes_dir(None);
+    let (name, path) = scenes::resolve("bunny", dir.as_deref()).expect("the bunny (set DYNRAY_SCENES)");
+    let sc = scenes::load(&name, &path).expect("bunny loads");
+    let mesh = &sc.frame.mesh;
+    let wide = AccelSpec::new(AccelKind::Wbvh);
+    let reference = wide.build(mesh, None).expect("wbvh builds");
+    let sets = rays::generate(&sc.frame, 160, 120, &[RayKind::Primary], reference.as_ref());
+    let brute = Brute::build(mesh).expect("brute builds");
+    let expected = oracle(&brute, &sets, Some(CHECKED));
+    let input = MeasureInput {
+        scene: &name,
+        frame: &sc.frame,
+        sets: &sets,
+        expected: &expected,
+        repeat: 1,
+        width: 160,
+        height: 120,
+        time_to_image: false,
+    };
+    let mut mismatches = Vec::new();
+    let (mut ours, _) = measure(&wide, &input, &mut mismatches, &|_| {}).expect("wbvh measures");
+    assert!(mismatches.is_empty(), "{mismatches:?}");
+    let packets = ours.primary_packets.clone().expect("the wide BVH is measured in packets");
+    // The ratios are taken against the structure named `compare::OURS`.
+    ours.accel = compare::OURS.to_string();
+    let mut notes = Vec::new();
+    let results = compare::measure_scene(&name, mesh, &sets, &expected, 1, &[ours.clone()], &mut notes, &|_| {})
+        .expect("every competitor builds");
+    let row = |variant: &str| {
+        let c = results.iter().find(|c| c.name == "embree" && c.variant == variant).expect(variant);
+        c.kinds.iter().find(|k| k.kind == "primary").expect("primary").clone()
+    };
+    let (p8, single) = (row("packet8"), row("single-ray"));
+    assert_eq!(p8.ours_kind.as_deref(), Some("primary-packet"));
+    assert_eq!(p8.ours_over_theirs_speed, Some(packets.mrays_per_s / p8.mrays_per_s));
+    assert_eq!(single.ours_kind.as_deref(), Some("primary"));
+    assert_eq!(single.ours_over_theirs_speed, Some(ours.kinds[0].mrays_per_s / single.mrays_per_s));
+}

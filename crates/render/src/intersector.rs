@@ -17,6 +17,15 @@ pub trait Geometry: Sync {
     /// (`prim` in this geometry's numbering, `u`, `v` its surface parameters).
     fn intersect(&self, ray: &Ray) -> Hit;
 
+    /// [`Geometry::intersect`] of each of a batch of coherent rays (camera rays in pixel
+    /// order) into `hits`, exactly: a geometry whose structure traces packets uses them;
+    /// the default asks one ray at a time. `hits.len() == rays.len()`.
+    fn intersect_coherent_into(&self, rays: &[Ray], hits: &mut [Hit]) {
+        for (r, h) in rays.iter().zip(hits) {
+            *h = self.intersect(r);
+        }
+    }
+
     /// True when anything of this geometry lies on `ray` within `[tmin, tmax]`.
     fn occluded(&self, ray: &Ray) -> bool;
 
@@ -65,6 +74,29 @@ impl<'a> SceneIntersector<'a> {
         self.geometries[i].surface(ray, &hit, i as u32)
     }
 
+    /// [`Self::intersect`] of each of a batch of coherent rays (a tile's camera rays, in
+    /// pixel order), with the same answers: each geometry traces the whole batch through
+    /// its coherent path (packets, where its structure has them), later geometries over
+    /// intervals shortened by the earlier ones' hits exactly as `intersect` shortens them.
+    pub fn intersect_coherent(&self, rays: &[Ray]) -> Vec<Option<SurfaceHit<'_>>> {
+        let mut best: Vec<Option<(usize, Hit)>> = vec![None; rays.len()];
+        let mut shortened = rays.to_vec();
+        let mut hits = vec![Hit::MISS; rays.len()];
+        for (i, g) in self.geometries.iter().enumerate() {
+            g.intersect_coherent_into(&shortened, &mut hits);
+            for ((hit, b), r) in hits.iter().zip(&mut best).zip(&mut shortened) {
+                if hit.is_hit() && b.is_none_or(|(_, bh)| hit.t < bh.t) {
+                    r.tmax = hit.t;
+                    *b = Some((i, *hit));
+                }
+            }
+        }
+        best.into_iter()
+            .zip(rays)
+            .map(|(b, ray)| b.and_then(|(i, hit)| self.geometries[i].surface(ray, &hit, i as u32)))
+            .collect()
+    }
+
     /// True when anything lies on `ray` within `[tmin, tmax]` (shadow rays).
     pub fn occluded(&self, ray: &Ray) -> bool {
         self.geometries.iter().any(|g| g.occluded(ray))
@@ -98,6 +130,10 @@ impl Geometry for TriangleGeometry<'_> {
 
     fn occluded(&self, ray: &Ray) -> bool {
         self.accel.occluded(ray)
+    }
+
+    fn intersect_coherent_into(&self, rays: &[Ray], hits: &mut [Hit]) {
+        self.accel.intersect_coherent_into(rays, hits);
     }
 
     fn surface<'a>(&'a self, ray: &Ray, hit: &Hit, geometry: u32) -> Option<SurfaceHit<'a>> {

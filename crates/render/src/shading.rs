@@ -100,6 +100,17 @@ impl<'a> WhittedShading<'a> {
         self.scene.intersect(ray).map(|hit| Surface { facing: Facing::new(&hit, ray.dir), hit })
     }
 
+    /// [`Self::intersect`] of each of a batch of coherent rays (camera rays in pixel
+    /// order), traced through the scene's coherent path: packets where the structure has
+    /// them, the same answers.
+    pub fn intersect_coherent(&self, rays: &[Ray]) -> Vec<Option<Surface<'a>>> {
+        let hits = self.scene.intersect_coherent(rays);
+        hits.into_iter()
+            .zip(rays)
+            .map(|(h, ray)| h.map(|hit| Surface { facing: Facing::new(&hit, ray.dir), hit }))
+            .collect()
+    }
+
     /// What a ray that hits nothing sees.
     pub fn background(&self) -> Color {
         self.frame.environment.background

@@ -28,7 +28,19 @@ impl<'a> Whitted<'a> {
     /// Radiance arriving along `ray` (unit direction expected, any length works) for a
     /// ray of the given `level` (primary = 1) and `weight` (primary = 1). Never NaN.
     pub fn trace(&self, ray: &Ray, level: u32, weight: f32, counts: &mut RayCounts) -> Color {
-        let c = match self.shading.intersect(ray) {
+        self.trace_from(ray, self.shading.intersect(ray), level, weight, counts)
+    }
+
+    /// [`Self::trace`] of `ray` whose closest hit `hit` is already known.
+    fn trace_from(
+        &self,
+        ray: &Ray,
+        hit: Option<Surface<'_>>,
+        level: u32,
+        weight: f32,
+        counts: &mut RayCounts,
+    ) -> Color {
+        let c = match hit {
             Some(s) => self.shade(ray, &s, level, weight, counts),
             None => self.shading.background(),
         };
@@ -78,5 +90,16 @@ impl Integrator for Whitted<'_> {
     /// sub-pixel position has already placed the camera ray).
     fn radiance(&self, ray: &Ray, _sampler: &mut Sampler, counts: &mut RayCounts) -> Color {
         self.trace(ray, 1, 1.0, counts)
+    }
+
+    /// The batch's camera rays are intersected together, through the scene's coherent
+    /// path (8-ray packets where the structure has them, bit-identical hits), then each
+    /// sample is shaded as [`Integrator::radiance`] shades it: the same image.
+    fn radiance_batch(&self, rays: &[Ray], _samplers: &mut [Sampler], out: &mut [Color], counts: &mut RayCounts) {
+        debug_assert!(rays.len() == out.len(), "batch slices differ in length");
+        let hits = self.shading.intersect_coherent(rays);
+        for ((ray, hit), o) in rays.iter().zip(hits).zip(out.iter_mut()) {
+            *o = self.trace_from(ray, hit, 1, 1.0, counts);
+        }
     }
 }

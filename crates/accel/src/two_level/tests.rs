@@ -246,3 +246,56 @@ fn the_top_level_holds_every_instance_and_stays_shallow() {
     let (nodes, _) = top::build(&same);
     assert!((validate::top_depth(&nodes) as usize) < top::STACK);
 }
+
+/// A frame of one deforming actor is one world-space part under the top level: coherent
+/// batches reach its wide tree's packets, with the answers of `intersect`, bit for bit.
+#[test]
+fn a_lone_world_part_forwards_coherent_batches_to_its_packets() {
+    let s = Scene::at(2);
+    let strip = TriangleMesh::new(
+        s.mesh.positions[4..16].to_vec(),
+        s.mesh.indices[2..12].iter().map(|t| t.map(|i| i - 4)).collect(),
+    );
+    let actors = [ActorGeometry { triangles: 0..10, vertices: 0..12, motion: ActorMotion::Deforming }];
+    let spec = crate::AccelSpec::new(AccelKind::Wbvh);
+    let (live, _) = LiveScene::build(&spec, UpdatePolicy::Refit, SceneLayout::Split, &actors, &strip, None).unwrap();
+    let tl = live.two_level().expect("two levels");
+    assert_eq!(tl.counts(), (1, 1));
+    assert!(live.accel().traces_packets());
+    // Packets of 8 rays from one eye per packet, some with NaN or zero-length intervals.
+    let mut rays = rays();
+    let b = strip.bounds();
+    for (k, g) in rays.chunks_mut(8).enumerate() {
+        let o = g[0].origin;
+        // Aimed at a 4 × 2 block of points across the strip's box, one block per packet.
+        let at = b.min + (b.max - b.min) * Vec3::new((k % 7) as f32 / 7.0, (k % 3) as f32 / 3.0, 0.5);
+        for (i, r) in g.iter_mut().enumerate() {
+            r.origin = o;
+            r.dir = at + Vec3::new((i % 4) as f32 * 0.05, (i / 4) as f32 * 0.05, 0.0) - o;
+        }
+        match k % 5 {
+            0 => g[3].tmax = f32::NAN,
+            1 => g[1].tmax = 0.0,
+            _ => {}
+        }
+    }
+    let mut got = vec![Hit::MISS; rays.len()];
+    live.accel().intersect_coherent_into(&rays, &mut got);
+    let brute = Brute::build(&strip).unwrap();
+    let mut hits = 0;
+    for (r, g) in rays.iter().zip(&got) {
+        let want = live.accel().intersect(r);
+        assert!(g.same_as(&want) && g.u.to_bits() == want.u.to_bits(), "{g:?} vs {want:?} for {r:?}");
+        if !r.tmax.is_nan() {
+            assert!(g.same_as(&brute.intersect(r)), "{r:?}");
+        }
+        hits += g.is_hit() as usize;
+    }
+    assert!(hits > 1000, "{hits} hits");
+    // Several parts: one ray at a time, the same answers.
+    let (split, _) =
+        LiveScene::build(&spec, UpdatePolicy::Refit, SceneLayout::Split, &s.actors(), &s.mesh, None).unwrap();
+    assert!(!split.accel().traces_packets());
+    split.accel().intersect_coherent_into(&rays, &mut got);
+    assert!(rays.iter().zip(&got).all(|(r, g)| g.same_as(&split.accel().intersect(r))));
+}

@@ -132,6 +132,14 @@ impl TwoLevel {
         best.get()
     }
 
+    /// The one instance, when it is all the top level holds and its part is in world space.
+    fn single_world_instance(&self) -> Option<&Instance> {
+        match (self.instances.as_slice(), self.top.len()) {
+            ([inst], 1) if inst.to_local.is_none() => Some(inst),
+            _ => None,
+        }
+    }
+
     /// The instanced oracle: every instance's part searched by brute force (its own
     /// triangles, the ray mapped into its space), the closest kept in the engine's order.
     /// Equal to brute force over the frame where every part is in world space.
@@ -179,6 +187,42 @@ impl Accel for TwoLevel {
             },
         );
         hit
+    }
+
+    /// A frame whose only part is in world space (a single moving actor and nothing else)
+    /// hands a coherent batch to that part's own coherent path, so packets reach its
+    /// structure; each hit is then renumbered and the top level's box test applied as
+    /// `intersect` applies them. Any other layout answers one ray at a time.
+    fn intersect_coherent_into(&self, rays: &[Ray], hits: &mut [Hit]) {
+        crate::batch::check_batch_lengths(rays.len(), hits.len());
+        let Some(inst) = self.single_world_instance() else {
+            for (r, h) in rays.iter().zip(hits) {
+                *h = self.intersect(r);
+            }
+            return;
+        };
+        let part = self.parts[inst.part as usize].live.accel();
+        // `closest` hands the part `min(∞, tmax)`: a NaN `tmax` becomes ∞.
+        if rays.iter().any(|r| r.tmax.is_nan()) {
+            let local: Vec<Ray> = rays.iter().map(|r| Ray { tmax: f32::INFINITY.min(r.tmax), ..*r }).collect();
+            part.intersect_coherent_into(&local, hits);
+        } else {
+            part.intersect_coherent_into(rays, hits);
+        }
+        let root = self.top[0].bounds();
+        for (r, h) in rays.iter().zip(hits) {
+            if h.is_hit() {
+                *h = if root.intersect(&PreparedRay::new(r), r.tmax).is_some() {
+                    Hit { prim: self.frame_prim(inst, h.prim), ..*h }
+                } else {
+                    Hit::MISS
+                };
+            }
+        }
+    }
+
+    fn traces_packets(&self) -> bool {
+        self.single_world_instance().is_some_and(|i| self.parts[i.part as usize].live.accel().traces_packets())
     }
 
     fn intersect_counted(&self, ray: &Ray, counts: &mut TraversalCounts) -> Hit {

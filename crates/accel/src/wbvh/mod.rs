@@ -5,7 +5,9 @@
 //! Files: [`params`] (presets), [`node`] (node layout and child references), `block.rs`
 //! (leaf blocks and their padding), `collapse.rs` (binary → wide), `kernel.rs` (the
 //! scalar specification and kernel choice), `kernel_avx2.rs` (the AVX2 kernel),
-//! `traverse.rs`, `refit.rs`, `validate.rs`.
+//! `traverse.rs`, `packet.rs`, `packet_avx2.rs` and `packet_traverse.rs` (8-ray packets
+//! for coherent rays),
+//! `refit.rs`, `validate.rs`.
 //!
 //! This is `--accel bvh`, the default structure and the CPU's fast path. The binary tree
 //! it collapses (crates/accel/src/bvh, `--accel bvh2`) stays what the GPU backend uploads. Figures and what did not pay: docs/structures.md, "The wide BVH".
@@ -16,6 +18,12 @@ mod kernel;
 #[cfg(target_arch = "x86_64")]
 mod kernel_avx2;
 pub mod node;
+mod packet;
+#[cfg(target_arch = "x86_64")]
+mod packet_avx2;
+#[cfg(test)]
+mod packet_tests;
+mod packet_traverse;
 pub mod params;
 mod refit;
 pub(crate) mod scan;
@@ -25,6 +33,7 @@ mod validate;
 pub use block::TriBlock;
 pub use kernel::FORCE_SCALAR_ENV;
 pub use node::{Node4, Node8, WideNode};
+pub use packet::PACKET;
 pub use params::WbvhParams;
 pub use validate::InvalidWbvh;
 
@@ -119,6 +128,36 @@ impl Wbvh {
         }
     }
 
+    /// Closest hits of up to [`PACKET`] rays traced as one packet (packet.rs): `hits[i]`
+    /// is `self.intersect(&rays[i])` bit for bit (triangle, `t`, `u`, `v`). The rays that
+    /// share the first ray's origin travel together; any other ray (another origin, a
+    /// NaN in it, a non-finite origin) is traced alone, and so is a packet of one.
+    /// Panics unless `rays.len() == hits.len() <= PACKET`.
+    pub fn intersect_packet(&self, rays: &[Ray], hits: &mut [Hit]) {
+        let mut scratch = self.packet_scratch();
+        self.intersect_packet_in(rays, hits, &mut scratch);
+    }
+
+    /// Working memory for packets of this tree (`intersect_coherent_into` makes one per
+    /// batch).
+    fn packet_scratch(&self) -> packet_traverse::PacketScratch {
+        with_tree!(self, t => packet_traverse::PacketScratch::new(t.stack_need))
+    }
+
+    /// [`Wbvh::intersect_packet`] with `scratch` from [`Wbvh::packet_scratch`].
+    fn intersect_packet_in(&self, rays: &[Ray], hits: &mut [Hit], scratch: &mut packet_traverse::PacketScratch) {
+        crate::batch::check_batch_lengths(rays.len(), hits.len());
+        let mut p = packet::Packet::new(rays);
+        if p.active.count_ones() >= 2 {
+            with_tree!(self, t => t.closest_packet(rays, &p, hits, scratch));
+        } else {
+            p.active = 0;
+        }
+        for l in packet::lanes(!p.active & ((1u32 << rays.len()) - 1)) {
+            hits[l] = self.intersect(&rays[l]);
+        }
+    }
+
     /// Checks every invariant traversal relies on against `mesh` (see validate.rs).
     pub fn check_invariants(&self, mesh: &TriangleMesh) -> Result<validate::WbvhShape, InvalidWbvh> {
         with_tree!(self, t => t.check(mesh))
@@ -136,6 +175,20 @@ impl Accel for Wbvh {
 
     fn occluded(&self, ray: &Ray) -> bool {
         with_tree!(self, t => t.any(ray, &mut NoCount))
+    }
+
+    /// Packets of [`PACKET`] consecutive rays ([`Wbvh::intersect_packet`]): a group whose
+    /// rays share one origin travels together, other rays alone.
+    fn intersect_coherent_into(&self, rays: &[Ray], hits: &mut [Hit]) {
+        crate::batch::check_batch_lengths(rays.len(), hits.len());
+        let mut scratch = self.packet_scratch();
+        for (rs, hs) in rays.chunks(PACKET).zip(hits.chunks_mut(PACKET)) {
+            self.intersect_packet_in(rs, hs, &mut scratch);
+        }
+    }
+
+    fn traces_packets(&self) -> bool {
+        true
     }
 
     /// Counts interior nodes visited and triangle lanes tested (4 per block, padding

@@ -392,7 +392,7 @@ impl BatchQuery for Packets {
     }
 }
 
-const _: () = assert!(super::CHUNK % 8 == 0, "packets must not straddle chunks");
+const _: () = assert!(super::CHUNK.is_multiple_of(8), "packets must not straddle chunks");
 
 impl Packets {
     fn closest(&self, rays: &[Ray], out: &mut [Hit]) {
@@ -475,6 +475,9 @@ impl Competitor for Packet8 {
     }
     fn kinds(&self) -> Option<&'static [RayKind]> {
         Some(&[RayKind::Primary])
+    }
+    fn packets(&self) -> bool {
+        true
     }
     fn build(&self, mesh: &TriangleMesh) -> Result<Built> {
         let scene = self.0.build(mesh)?;

@@ -57,6 +57,11 @@ pub trait Competitor: Send + Sync {
     fn kinds(&self) -> Option<&'static [RayKind]> {
         None
     }
+    /// True for a packet API (Embree's `rtcIntersect8`): its primary rays are compared
+    /// with our packet path (`primary-packet`) where our structure has one.
+    fn packets(&self) -> bool {
+        false
+    }
     /// Builds over `mesh` (the timed part: everything from our mesh to a traceable
     /// structure, including the library's copy of the triangles).
     fn build(&self, mesh: &TriangleMesh) -> Result<Built>;
@@ -206,8 +211,11 @@ pub fn measure_scene(
                 .unwrap_or_default();
             let trace_ms = median(&runs);
             let mrays_per_s = if trace_ms > 0.0 { rays.len() as f64 / trace_ms / 1e3 } else { 0.0 };
-            let ours_mrays =
-                reference.and_then(|r| r.kinds.iter().find(|k| k.kind == kind.name())).map(|k| k.mrays_per_s);
+            let ours = reference.and_then(|r| match &r.primary_packets {
+                Some(p) if c.packets() && *kind == RayKind::Primary => Some(p),
+                _ => r.kinds.iter().find(|k| k.kind == kind.name()),
+            });
+            let ours_mrays = ours.map(|k| k.mrays_per_s);
             kinds.push(CompetitorKind {
                 kind: kind.name().to_string(),
                 rays: rays.len(),
@@ -222,6 +230,7 @@ pub fn measure_scene(
                 agreement: agree.fraction(),
                 max_rel_t_diff: agree.max_rel_t_diff,
                 ours_over_theirs_speed: ours_mrays.and_then(|o| (mrays_per_s > 0.0).then(|| o / mrays_per_s)),
+                ours_kind: ours.map(|k| k.kind.clone()),
             });
         }
         results.push(CompetitorResult {

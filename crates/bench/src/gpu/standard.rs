@@ -82,6 +82,8 @@ pub fn measure(
         sah_cost: stats.sah_cost,
         extra,
         kinds,
+        // The GPU backend traces one ray per invocation: no packet path.
+        primary_packets: None,
         time_to_image_ms,
         render_ms,
         render_rays,

@@ -1,0 +1,284 @@
+//! The AVX2 packet kernel: the frustum test of 8 (`__m256`) or 4 (`__m128`) children at
+//! once, and the single-ray box test of one child for the 8 lanes of a packet at once.
+//!
+//! Bit-identical to the scalar specification in packet.rs for the same reasons as
+//! kernel_avx2.rs: each lane performs the scalar operations in the same order (`sub`,
+//! `mul`, correctly rounded, no FMA), `maxps(x, −∞)` / `minps(x, +∞)` return the second
+//! operand on NaN as `or_if_nan` does, and the comparisons are the ordered ones.
+//! The lane test subtracts the origin from the child's plane once, in a broadcast register:
+//! every lane shares the origin, so every lane gets the scalar test's `lo - org` bits.
+//!
+//! Safety: as kernel_avx2.rs, these `#[inline(always)]` bodies are only inlined into
+//! packet.rs's `#[target_feature(enable = "avx2")]` entry point, called only when AVX2
+//! was detected; loads and stores go through `bytemuck::cast` of arrays.
+#![allow(unsafe_code)]
+
+use super::kernel::Nears;
+use super::kernel_avx2::Avx2;
+use super::node::WideNode;
+use super::packet::{Frustum, Lanes, Packet, PacketKernel};
+use bytemuck::cast;
+use dynray_geom::SLAB_MARGIN;
+use std::arch::x86_64::*;
+
+/// `x · (1 ∓ m)`: widened outwards by [`SLAB_MARGIN`] as `Aabb::clip` does (`near`:
+/// shrink positive values; far: grow them).
+macro_rules! widen {
+    ($cmp:ident, $blend:ident, $set1:ident, $mul:ident, $zero:expr, $x:expr, $near:expr) => {{
+        let x = $x;
+        let positive = $cmp::<_CMP_GT_OQ>(x, $zero);
+        let (pos, neg) =
+            if $near { (1.0 - SLAB_MARGIN, 1.0 + SLAB_MARGIN) } else { (1.0 + SLAB_MARGIN, 1.0 - SLAB_MARGIN) };
+        $mul(x, $blend($set1(neg), $set1(pos), positive))
+    }};
+}
+
+/// The frustum test at one width: `$load` reads `W` lanes of a node array.
+macro_rules! frustum {
+    ($node:expr, $f:expr, $near:expr, $ty:ty, $set1:ident, $sub:ident, $mul:ident, $min:ident, $max:ident,
+     $cmp:ident, $blend:ident, $zero:ident, $movemask:ident, $arr:ty) => {{
+        let node = $node;
+        let f: &Frustum = $f;
+        let load = |s: &[f32]| cast::<$arr, $ty>(s.try_into().expect("node lanes"));
+        let (mut n, mut x) = ($set1(f32::NEG_INFINITY), $set1(f32::INFINITY));
+        for a in 0..3 {
+            let (enter, exit) = match f.sign[a] {
+                0 => continue,
+                1 => (node.lo(a), node.hi(a)),
+                _ => (node.hi(a), node.lo(a)),
+            };
+            let o = $set1(f.org[a]);
+            let (imin, imax) = ($set1(f.inv_min[a]), $set1(f.inv_max[a]));
+            let de = $sub(load(enter), o);
+            let dx = $sub(load(exit), o);
+            n = $max(n, $min($mul(de, imin), $mul(de, imax)));
+            x = $min(x, $max($mul(dx, imin), $mul(dx, imax)));
+        }
+        let zero = $zero();
+        let n = $max(widen!($cmp, $blend, $set1, $mul, zero, n, true), $set1(f.tmin));
+        let x = $min(widen!($cmp, $blend, $set1, $mul, zero, x, false), $set1(f.limit));
+        let valid = (1u32 << node.count()) - 1;
+        let out: $arr = cast(n);
+        $near[..out.len()].copy_from_slice(&out);
+        ($movemask($cmp::<_CMP_LE_OQ>(n, x)) as u32) & valid
+    }};
+}
+
+impl PacketKernel for Avx2 {
+    #[inline(always)]
+    fn frustum<N: WideNode>(node: &N, f: &Frustum, near: &mut Nears) -> u32 {
+        // SAFETY: see the file's header.
+        unsafe {
+            if N::W == 8 {
+                frustum!(
+                    node,
+                    f,
+                    near,
+                    __m256,
+                    _mm256_set1_ps,
+                    _mm256_sub_ps,
+                    _mm256_mul_ps,
+                    _mm256_min_ps,
+                    _mm256_max_ps,
+                    _mm256_cmp_ps,
+                    _mm256_blendv_ps,
+                    _mm256_setzero_ps,
+                    _mm256_movemask_ps,
+                    [f32; 8]
+                )
+            } else {
+                debug_assert_eq!(N::W, 4);
+                frustum!(
+                    node,
+                    f,
+                    near,
+                    __m128,
+                    _mm_set1_ps,
+                    _mm_sub_ps,
+                    _mm_mul_ps,
+                    _mm_min_ps,
+                    _mm_max_ps,
+                    _mm_cmp_ps,
+                    _mm_blendv_ps,
+                    _mm_setzero_ps,
+                    _mm_movemask_ps,
+                    [f32; 4]
+                )
+            }
+        }
+    }
+
+    #[inline(always)]
+    fn lanes<N: WideNode>(node: &N, i: usize, p: &Packet, limit: &Lanes, mask: u32, near: &mut Lanes) -> u32 {
+        // SAFETY: see the file's header.
+        unsafe {
+            let (ninf, pinf) = (_mm256_set1_ps(f32::NEG_INFINITY), _mm256_set1_ps(f32::INFINITY));
+            let (mut n, mut x) = (ninf, pinf);
+            for a in 0..3 {
+                let o = _mm256_set1_ps(p.org[a]);
+                let inv = cast::<Lanes, __m256>(p.inv[a]);
+                let t0 = _mm256_mul_ps(_mm256_sub_ps(_mm256_set1_ps(node.lo(a)[i]), o), inv);
+                let t1 = _mm256_mul_ps(_mm256_sub_ps(_mm256_set1_ps(node.hi(a)[i]), o), inv);
+                let near_a = _mm256_min_ps(_mm256_max_ps(t0, ninf), _mm256_max_ps(t1, ninf));
+                let far_a = _mm256_max_ps(_mm256_min_ps(t0, pinf), _mm256_min_ps(t1, pinf));
+                n = _mm256_max_ps(n, near_a);
+                x = _mm256_min_ps(x, far_a);
+            }
+            let zero = _mm256_setzero_ps();
+            let n = widen!(_mm256_cmp_ps, _mm256_blendv_ps, _mm256_set1_ps, _mm256_mul_ps, zero, n, true);
+            let x = widen!(_mm256_cmp_ps, _mm256_blendv_ps, _mm256_set1_ps, _mm256_mul_ps, zero, x, false);
+            // `maxps(tmin, n)` = `tmin > n ? tmin : n`; `minps(limit, x)` = `limit < x ? limit : x`.
+            let n = _mm256_max_ps(cast::<Lanes, __m256>(p.tmin), n);
+            let x = _mm256_min_ps(cast::<Lanes, __m256>(*limit), x);
+            *near = cast(n);
+            (_mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(n, x)) as u32) & mask
+        }
+    }
+
+    #[allow(clippy::needless_range_loop)] // `a` indexes the node's, the packet's and `sign`'s arrays
+    #[inline(always)]
+    fn lanes_ordered<N: WideNode>(
+        node: &N,
+        i: usize,
+        p: &Packet,
+        sign: &[i32; 3],
+        limit: &Lanes,
+        mask: u32,
+        near: &mut Lanes,
+    ) -> u32 {
+        // SAFETY: see the file's header.
+        unsafe {
+            let (mut n, mut x) = (_mm256_set1_ps(f32::NEG_INFINITY), _mm256_set1_ps(f32::INFINITY));
+            for a in 0..3 {
+                let (enter, exit) =
+                    if sign[a] > 0 { (node.lo(a)[i], node.hi(a)[i]) } else { (node.hi(a)[i], node.lo(a)[i]) };
+                let o = _mm256_set1_ps(p.org[a]);
+                let inv = cast::<Lanes, __m256>(p.inv[a]);
+                n = _mm256_max_ps(n, _mm256_mul_ps(_mm256_sub_ps(_mm256_set1_ps(enter), o), inv));
+                x = _mm256_min_ps(x, _mm256_mul_ps(_mm256_sub_ps(_mm256_set1_ps(exit), o), inv));
+            }
+            let zero = _mm256_setzero_ps();
+            let n = widen!(_mm256_cmp_ps, _mm256_blendv_ps, _mm256_set1_ps, _mm256_mul_ps, zero, n, true);
+            let x = widen!(_mm256_cmp_ps, _mm256_blendv_ps, _mm256_set1_ps, _mm256_mul_ps, zero, x, false);
+            let n = _mm256_max_ps(cast::<Lanes, __m256>(p.tmin), n);
+            let x = _mm256_min_ps(cast::<Lanes, __m256>(*limit), x);
+            *near = cast(n);
+            (_mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(n, x)) as u32) & mask
+        }
+    }
+
+    #[inline(always)]
+    fn max_limit(limit: &Lanes, mask: u32) -> f32 {
+        // SAFETY: see the file's header.
+        unsafe {
+            let bits = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+            let on = _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(mask as i32), bits), bits);
+            let v = _mm256_blendv_ps(
+                _mm256_set1_ps(f32::NEG_INFINITY),
+                cast::<Lanes, __m256>(*limit),
+                _mm256_castsi256_ps(on),
+            );
+            // Limits are never NaN, so the order of the `max`es does not matter.
+            let h = _mm_max_ps(_mm256_castps256_ps128(v), _mm256_extractf128_ps::<1>(v));
+            let h = _mm_max_ps(h, _mm_movehl_ps(h, h));
+            let h = _mm_max_ss(h, _mm_shuffle_ps::<0b01>(h, h));
+            _mm_cvtss_f32(h)
+        }
+    }
+
+    #[inline(always)]
+    fn prefetch<T>(x: &T) {
+        let p = x as *const T as *const i8;
+        for line in (0..std::mem::size_of::<T>()).step_by(64) {
+            // SAFETY: a prefetch never faults; the address is inside `x` anyway.
+            unsafe { _mm_prefetch::<_MM_HINT_T0>(p.wrapping_add(line)) }
+        }
+    }
+
+    #[inline(always)]
+    fn entered(near: &Lanes, limit: &Lanes, mask: u32) -> u32 {
+        // SAFETY: see the file's header.
+        unsafe {
+            let le = _mm256_cmp_ps::<_CMP_LE_OQ>(cast::<Lanes, __m256>(*near), cast::<Lanes, __m256>(*limit));
+            (_mm256_movemask_ps(le) as u32) & mask
+        }
+    }
+}
+
+/// Entry points for the tests, compiled with AVX2 as traversal compiles the kernel.
+/// Callers check `is_x86_feature_detected!("avx2")` first.
+#[cfg(test)]
+impl Avx2 {
+    pub(super) fn frustum_checked<N: WideNode>(node: &N, f: &Frustum, near: &mut Nears) -> u32 {
+        #[target_feature(enable = "avx2")]
+        fn go<N: WideNode>(node: &N, f: &Frustum, near: &mut Nears) -> u32 {
+            <Avx2 as PacketKernel>::frustum(node, f, near)
+        }
+        assert!(std::arch::is_x86_feature_detected!("avx2"));
+        // SAFETY: AVX2 checked on the line above.
+        unsafe { go(node, f, near) }
+    }
+
+    pub(super) fn lanes_checked<N: WideNode>(
+        node: &N,
+        i: usize,
+        p: &Packet,
+        limit: &Lanes,
+        mask: u32,
+        near: &mut Lanes,
+    ) -> u32 {
+        #[target_feature(enable = "avx2")]
+        fn go<N: WideNode>(node: &N, i: usize, p: &Packet, limit: &Lanes, mask: u32, near: &mut Lanes) -> u32 {
+            <Avx2 as PacketKernel>::lanes(node, i, p, limit, mask, near)
+        }
+        assert!(std::arch::is_x86_feature_detected!("avx2"));
+        // SAFETY: AVX2 checked on the line above.
+        unsafe { go(node, i, p, limit, mask, near) }
+    }
+
+    pub(super) fn lanes_ordered_checked<N: WideNode>(
+        node: &N,
+        i: usize,
+        p: &Packet,
+        sign: &[i32; 3],
+        limit: &Lanes,
+        mask: u32,
+        near: &mut Lanes,
+    ) -> u32 {
+        #[target_feature(enable = "avx2")]
+        fn go<N: WideNode>(
+            node: &N,
+            i: usize,
+            p: &Packet,
+            sign: &[i32; 3],
+            limit: &Lanes,
+            mask: u32,
+            near: &mut Lanes,
+        ) -> u32 {
+            <Avx2 as PacketKernel>::lanes_ordered(node, i, p, sign, limit, mask, near)
+        }
+        assert!(std::arch::is_x86_feature_detected!("avx2"));
+        // SAFETY: AVX2 checked on the line above.
+        unsafe { go(node, i, p, sign, limit, mask, near) }
+    }
+
+    pub(super) fn max_limit_checked(limit: &Lanes, mask: u32) -> f32 {
+        #[target_feature(enable = "avx2")]
+        fn go(limit: &Lanes, mask: u32) -> f32 {
+            <Avx2 as PacketKernel>::max_limit(limit, mask)
+        }
+        assert!(std::arch::is_x86_feature_detected!("avx2"));
+        // SAFETY: AVX2 checked on the line above.
+        unsafe { go(limit, mask) }
+    }
+
+    pub(super) fn entered_checked(near: &Lanes, limit: &Lanes, mask: u32) -> u32 {
+        #[target_feature(enable = "avx2")]
+        fn go(near: &Lanes, limit: &Lanes, mask: u32) -> u32 {
+            <Avx2 as PacketKernel>::entered(near, limit, mask)
+        }
+        assert!(std::arch::is_x86_feature_detected!("avx2"));
+        // SAFETY: AVX2 checked on the line above.
+        unsafe { go(near, limit, mask) }
+    }
+}

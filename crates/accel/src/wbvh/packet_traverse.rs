@@ -1,0 +1,264 @@
+//! The packet traversal of the wide tree (the kernels and the frustum are in packet.rs):
+//! children visited nearest first by the frustum's entry distance, each with the mask of
+//! the lanes that enter it; lanes left alone finish their subtree as single rays.
+
+use super::kernel::{BoxRay, Kernel, Nears, Scalar};
+use super::node::{is_leaf, leaf_blocks, ChildRef, WideNode};
+use super::packet::{lanes, Frustum, Lanes, Packet, PacketKernel, PACKET};
+use super::WideTree;
+use dynray_geom::{Hit, PreparedRay, Ray};
+
+/// A deferred child: which lanes enter it, where, and the frustum's entry distance.
+#[derive(Clone, Copy, Default)]
+struct Entry {
+    node: ChildRef,
+    mask: u32,
+    key: f32,
+    near: Lanes,
+}
+
+/// A deferred child of a lane walking alone, and its entry distance.
+#[derive(Clone, Copy, Default)]
+struct LaneEntry {
+    node: ChildRef,
+    t: f32,
+}
+
+/// At or below this many lanes entering a node, the packet hands them to single-ray
+/// walks of that subtree (Embree's switch threshold for coherent rays is 2): a packet
+/// test serves 8 lanes for about the price of two single-ray node tests.
+const ALONE: u32 = 2;
+
+/// Working memory of packet traversals: the stacks and the lanes' triangle-test
+/// constants. Made once per batch, so that a packet does not start by zeroing a stack.
+pub struct PacketScratch {
+    stack: Vec<Entry>,
+    lane_stack: Vec<LaneEntry>,
+    pr: [Option<PreparedRay>; PACKET],
+}
+
+impl PacketScratch {
+    /// Scratch for a tree whose traversal needs `stack_need` stack entries.
+    pub fn new(stack_need: usize) -> Self {
+        Self {
+            stack: vec![Entry::default(); stack_need],
+            lane_stack: vec![LaneEntry::default(); stack_need],
+            pr: [None; PACKET],
+        }
+    }
+}
+
+impl<N: WideNode> WideTree<N> {
+    /// Closest hits of the active lanes of `p` (built from `rays`) into `hits`, with the
+    /// kernel chosen at build time. Lanes outside `p.active` are left untouched.
+    #[allow(unsafe_code)]
+    pub(super) fn closest_packet(&self, rays: &[Ray], p: &Packet, hits: &mut [Hit], s: &mut PacketScratch) {
+        assert!(s.stack.len() >= self.stack_need, "packet scratch made for another tree");
+        #[cfg(target_arch = "x86_64")]
+        if self.kernel == super::kernel::KernelChoice::Avx2 {
+            // SAFETY: `KernelChoice::Avx2` is only chosen when AVX2 was detected.
+            return unsafe { self.closest_packet_avx2(rays, p, hits, s) };
+        }
+        self.closest_packet_ordered::<Scalar, Scalar>(rays, p, hits, s)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    #[allow(unsafe_code)]
+    unsafe fn closest_packet_avx2(&self, rays: &[Ray], p: &Packet, hits: &mut [Hit], s: &mut PacketScratch) {
+        use super::kernel_avx2::Avx2;
+        self.closest_packet_ordered::<Avx2, Avx2>(rays, p, hits, s)
+    }
+
+    /// The traversal for `p`, with the lane test of [`PacketKernel::lanes_ordered`] where
+    /// its frustum is bounded on every axis.
+    #[inline(always)]
+    fn closest_packet_ordered<K: Kernel, P: PacketKernel>(
+        &self,
+        rays: &[Ray],
+        p: &Packet,
+        hits: &mut [Hit],
+        s: &mut PacketScratch,
+    ) {
+        let mut limit: Lanes = [f32::NEG_INFINITY; PACKET];
+        for l in lanes(p.active) {
+            limit[l] = p.tmax[l];
+        }
+        let frustum = Frustum::new(p, &limit);
+        if frustum.sign.iter().all(|&s| s != 0) {
+            self.closest_packet_in::<K, P, true>(rays, p, frustum, limit, hits, s)
+        } else {
+            self.closest_packet_in::<K, P, false>(rays, p, frustum, limit, hits, s)
+        }
+    }
+
+    /// The packet traversal. Its stack holds at most `stack_need` entries: each node
+    /// pushes at most its `W` children and pops one, as in the single-ray traversal.
+    /// `limit` holds each lane's `min(best t, tmax)` (the single-ray traversal's culling
+    /// limit; `tmax` before any hit), `frustum` is the packet's.
+    #[inline(always)]
+    fn closest_packet_in<K: Kernel, P: PacketKernel, const ORDERED: bool>(
+        &self,
+        rays: &[Ray],
+        p: &Packet,
+        mut frustum: Frustum,
+        mut limit: Lanes,
+        hits: &mut [Hit],
+        s: &mut PacketScratch,
+    ) {
+        let PacketScratch { stack, lane_stack, pr } = s;
+        for l in lanes(p.active) {
+            pr[l] = None;
+        }
+        let mut best = [Hit::MISS; PACKET];
+        let mut sp = 0usize;
+        let mut fnear: Nears = [0.0; 8];
+        let (mut cur, mut mask): (ChildRef, u32) = (0, p.active);
+        'walk: loop {
+            if is_leaf(cur) {
+                let (first, count) = leaf_blocks(cur);
+                for b in &self.blocks[first..first + count] {
+                    for l in lanes(mask) {
+                        let r = pr[l].get_or_insert_with(|| PreparedRay::new(&rays[l]));
+                        K::closest(b, r, &mut best[l]);
+                    }
+                }
+                for l in lanes(mask) {
+                    limit[l] = best[l].t.min(p.tmax[l]);
+                }
+            } else if mask.count_ones() <= ALONE {
+                for l in lanes(mask) {
+                    self.closest_lane::<K>(cur, l, &rays[l], p, &mut pr[l], &mut best[l], lane_stack);
+                    limit[l] = best[l].t.min(p.tmax[l]);
+                }
+            } else {
+                let node = &self.nodes[cur as usize];
+                // The frustum of the lanes entering this node only (their limits).
+                frustum.limit = P::max_limit(&limit, mask);
+                let mut fm = P::frustum(node, &frustum, &mut fnear);
+                let start = sp;
+                while fm != 0 {
+                    let i = fm.trailing_zeros() as usize;
+                    fm &= fm - 1;
+                    let mut e = Entry { node: node.child(i), mask: 0, key: fnear[i], near: [0.0; PACKET] };
+                    e.mask = if ORDERED {
+                        P::lanes_ordered(node, i, p, &frustum.sign, &limit, mask, &mut e.near)
+                    } else {
+                        P::lanes(node, i, p, &limit, mask, &mut e.near)
+                    };
+                    if e.mask == 0 {
+                        continue;
+                    }
+                    // Keep the pushed run sorted, nearest (by the frustum) on top.
+                    let mut j = sp;
+                    while j > start && stack[j - 1].key < e.key {
+                        stack[j] = stack[j - 1];
+                        j -= 1;
+                    }
+                    stack[j] = e;
+                    sp += 1;
+                }
+                // Start loading every child some lane will visit: the packet's lanes wait
+                // on one cache miss together, and the deferred ones arrive while it works.
+                for e in &stack[start..sp] {
+                    if is_leaf(e.node) {
+                        let (first, count) = leaf_blocks(e.node);
+                        for b in &self.blocks[first..first + count] {
+                            P::prefetch(b);
+                        }
+                    } else {
+                        P::prefetch(&self.nodes[e.node as usize]);
+                    }
+                }
+                if sp > start {
+                    sp -= 1;
+                    (cur, mask) = (stack[sp].node, stack[sp].mask);
+                    continue;
+                }
+            }
+            // Pop the next child some lane still enters no later than its best hit.
+            while sp > 0 {
+                sp -= 1;
+                let e = &stack[sp];
+                let m = P::entered(&e.near, &limit, e.mask);
+                if m != 0 {
+                    (cur, mask) = (e.node, m);
+                    continue 'walk;
+                }
+            }
+            break;
+        }
+        for l in lanes(p.active) {
+            hits[l] = best[l];
+        }
+    }
+
+    /// Lane `l` (ray `ray`) alone through the subtree under the interior node `root`,
+    /// from its best hit so far: the single-ray traversal of traverse.rs (the same box
+    /// test, order and culling), restated because that one starts at the root.
+    #[allow(clippy::too_many_arguments)] // the lane's share of the packet's state
+    #[inline(always)]
+    fn closest_lane<K: Kernel>(
+        &self,
+        root: ChildRef,
+        l: usize,
+        ray: &Ray,
+        p: &Packet,
+        pr: &mut Option<PreparedRay>,
+        best: &mut Hit,
+        stack: &mut [LaneEntry],
+    ) {
+        // `BoxRay::new(ray)`'s values: the packet computed them the same way.
+        let br = BoxRay { org: p.org, inv: [p.inv[0][l], p.inv[1][l], p.inv[2][l]] };
+        let (tmin, tmax) = (p.tmin[l], p.tmax[l]);
+        let mut near: Nears = [0.0; 8];
+        let mut sp = 0usize;
+        let mut cur = root;
+        loop {
+            if is_leaf(cur) {
+                let pr = pr.get_or_insert_with(|| PreparedRay::new(ray));
+                let (first, count) = leaf_blocks(cur);
+                for b in &self.blocks[first..first + count] {
+                    K::closest(b, pr, best);
+                }
+            } else {
+                let node = &self.nodes[cur as usize];
+                let mask = K::boxes(node, &br, tmin, best.t.min(tmax), &mut near);
+                if mask != 0 {
+                    if mask & (mask - 1) == 0 {
+                        cur = node.child(mask.trailing_zeros() as usize);
+                        continue;
+                    }
+                    let start = sp;
+                    let mut m = mask;
+                    while m != 0 {
+                        let i = m.trailing_zeros() as usize;
+                        m &= m - 1;
+                        let e = LaneEntry { node: node.child(i), t: near[i] };
+                        let mut j = sp;
+                        while j > start && stack[j - 1].t < e.t {
+                            stack[j] = stack[j - 1];
+                            j -= 1;
+                        }
+                        stack[j] = e;
+                        sp += 1;
+                    }
+                    sp -= 1;
+                    cur = stack[sp].node;
+                    continue;
+                }
+            }
+            loop {
+                if sp == 0 {
+                    return;
+                }
+                sp -= 1;
+                let e = stack[sp];
+                if e.t <= best.t {
+                    cur = e.node;
+                    break;
+                }
+            }
+        }
+    }
+}
