@@ -110,8 +110,8 @@ fn packet8_is_compared_with_our_packets_and_single_rays_with_our_single_rays() {
     let (name, path) = scenes::resolve("bunny", dir.as_deref()).expect("the bunny (set DYNRAY_SCENES)");
     let sc = scenes::load(&name, &path).expect("bunny loads");
     let mesh = &sc.frame.mesh;
-    let wide = AccelSpec::new(AccelKind::Wbvh);
-    let reference = wide.build(mesh, None).expect("wbvh builds");
+    let wide = AccelSpec::new(AccelKind::Bvh);
+    let reference = wide.build(mesh, None).expect("bvh builds");
     let sets = rays::generate(&sc.frame, 160, 120, &[RayKind::Primary], reference.as_ref());
     let brute = Brute::build(mesh).expect("brute builds");
     let expected = oracle(&brute, &sets, Some(CHECKED));
@@ -126,7 +126,7 @@ fn packet8_is_compared_with_our_packets_and_single_rays_with_our_single_rays() {
         time_to_image: false,
     };
     let mut mismatches = Vec::new();
-    let (mut ours, _) = measure(&wide, &input, &mut mismatches, &|_| {}).expect("wbvh measures");
+    let (mut ours, _) = measure(&wide, &input, &mut mismatches, &|_| {}).expect("bvh measures");
     assert!(mismatches.is_empty(), "{mismatches:?}");
     let packets = ours.primary_packets.clone().expect("the wide BVH is measured in packets");
     // The ratios are taken against the structure named `compare::OURS`.

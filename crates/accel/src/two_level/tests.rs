@@ -257,7 +257,7 @@ fn a_lone_world_part_forwards_coherent_batches_to_its_packets() {
         s.mesh.indices[2..12].iter().map(|t| t.map(|i| i - 4)).collect(),
     );
     let actors = [ActorGeometry { triangles: 0..10, vertices: 0..12, motion: ActorMotion::Deforming }];
-    let spec = crate::AccelSpec::new(AccelKind::Wbvh);
+    let spec = crate::AccelSpec::new(AccelKind::Bvh);
     let (live, _) = LiveScene::build(&spec, UpdatePolicy::Refit, SceneLayout::Split, &actors, &strip, None).unwrap();
     let tl = live.two_level().expect("two levels");
     assert_eq!(tl.counts(), (1, 1));
