@@ -35,15 +35,8 @@ fn place(part: Part, slot: usize, out: &mut Vec<BvhNode>) -> u32 {
         Part::Nodes { nodes, deepest } => {
             // Local index i >= 1 lands at global out.len() + i - 1.
             let shift = (out.len() - 1) as u32;
-            let global = |n: &BvhNode| {
-                let mut n = *n;
-                if !n.is_leaf() {
-                    n.index += shift;
-                }
-                n
-            };
-            out[slot] = global(&nodes[0]);
-            out.extend(nodes[1..].iter().map(global));
+            out[slot] = global(nodes[0], shift);
+            out.extend(nodes[1..].iter().map(|&n| global(n, shift)));
             deepest
         }
         Part::Pair { bounds, kids } => {
@@ -54,4 +47,12 @@ fn place(part: Part, slot: usize, out: &mut Vec<BvhNode>) -> u32 {
             place(l, at, out).max(place(r, at + 1, out))
         }
     }
+}
+
+/// `n` with its interior link moved by `shift` (leaf links are already global).
+fn global(mut n: BvhNode, shift: u32) -> BvhNode {
+    if !n.is_leaf() {
+        n.index += shift;
+    }
+    n
 }
