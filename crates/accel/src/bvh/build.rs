@@ -1,17 +1,17 @@
 //! Binned-SAH builder (seed 003 Algorithms 2.1 and 2.2), parallel over subtrees and
 //! deterministic: the node array does not depend on the number of threads.
 //!
-//! Determinism: a subtree over `n` triangles has at most `2n - 1` nodes, so every subtree
-//! is given a fixed slot range of that size in a scratch array before it is built (its
-//! children pair first, then the left subtree's range, then the right one's). Threads
-//! write disjoint ranges; one sequential depth-first pass then copies the used slots into
-//! the final array. Binning reduces with exact min/max/sum, so parallel binning is exact.
+//! Determinism: splits depend only on the refs of a node, never on the thread count
+//! (binning reduces with exact min/max/sum over fixed chunks, so parallel binning is exact);
+//! subtrees below `PARALLEL_THRESHOLD` are built by one thread each into their own vector,
+//! and assemble.rs joins them in a fixed depth-first order.
 
+use super::assemble::{assemble, Part};
 use super::{BvhNode, BvhParams};
 use crate::BuildError;
 use crate::StructureParams;
-use dynray_geom::{Aabb, Triangle, TriangleMesh, Vec3};
-use glam::Vec3A;
+use dynray_geom::{Aabb, Triangle, TriangleMesh};
+use glam::{Vec3A, Vec4};
 use rayon::prelude::*;
 
 /// Nodes with at least this many triangles build their two subtrees with `rayon::join`.
@@ -51,6 +51,12 @@ impl Box3 {
         self.hi = self.hi.max(p);
     }
 
+    #[inline(always)]
+    fn with(mut self, p: Vec3A) -> Box3 {
+        self.grow(p);
+        self
+    }
+
     /// Surface area of a non-empty box (callers skip empty ones).
     #[inline(always)]
     fn area(&self) -> f32 {
@@ -63,12 +69,37 @@ impl Box3 {
     }
 }
 
-/// One triangle as the builder sees it (48 bytes, 16-aligned).
+/// One triangle as the builder sees it, in 32 bytes (Embree's layout): its box, with the
+/// mesh index in the 4th lane of the low corner. The centroid is taken as `lo + hi` (twice
+/// the box centre: the scale cancels in binning), so it costs no storage; 48-byte refs with
+/// a stored vertex-mean centroid made every pass over the refs move 1.5× the bytes.
 #[derive(Clone, Copy, Debug)]
 struct PrimRef {
-    bounds: Box3,
-    centroid: Vec3,
-    id: u32,
+    /// `xyz`: low corner; `w`: the mesh index's bits.
+    lo: Vec4,
+    hi: Vec3A,
+}
+
+impl PrimRef {
+    fn new(b: &Aabb, id: u32) -> Self {
+        PrimRef { lo: Vec3A::from(b.min).extend(f32::from_bits(id)), hi: b.max.into() }
+    }
+
+    #[inline(always)]
+    fn id(&self) -> u32 {
+        self.lo.w.to_bits()
+    }
+
+    #[inline(always)]
+    fn bounds(&self) -> Box3 {
+        Box3 { lo: Vec3A::from_vec4(self.lo), hi: self.hi }
+    }
+
+    /// Twice the box centre: what binning, partition and the median split order by.
+    #[inline(always)]
+    fn center2(&self) -> Vec3A {
+        Vec3A::from_vec4(self.lo) + self.hi
+    }
 }
 
 /// SAH bins of all three axes, axis-major: `3 * k` boxes and counts (a bin holds the
@@ -115,7 +146,8 @@ thread_local! {
     static SCRATCH: std::cell::RefCell<Bins> = std::cell::RefCell::new(Bins::new(0));
 }
 
-/// The result of a build: nodes, triangles in leaf order, and their mesh indices.
+/// The result of a build: nodes, triangles in leaf order (empty when not asked for), and
+/// their mesh indices.
 pub(super) struct Built {
     pub nodes: Vec<BvhNode>,
     pub tris: Vec<Triangle>,
@@ -125,15 +157,21 @@ pub(super) struct Built {
 
 /// Builds the BVH of `mesh`.
 pub(super) fn build(mesh: &TriangleMesh, params: &BvhParams) -> Result<Built, BuildError> {
-    build_limited(mesh, params, SAH_DEPTH_LIMIT, 0)
+    build_limited(mesh, params, SAH_DEPTH_LIMIT, 0, true)
 }
 
 /// [`build`] with the block-cost SAH of wide BVHs: a leaf of `n` triangles costs
 /// `⌈n / 2^block_shift⌉` triangle tests instead of `n`, because the wide BVH tests its
 /// leaves `2^block_shift` triangles at a time (Embree's `sahBlockSize`). `block_shift = 0`
-/// is [`build`] exactly.
-pub(super) fn build_blocks(mesh: &TriangleMesh, params: &BvhParams, block_shift: u32) -> Result<Built, BuildError> {
-    build_limited(mesh, params, SAH_DEPTH_LIMIT, block_shift)
+/// is [`build`] exactly. Without `tris` the leaf-order triangle copies are not made (the
+/// wide BVH's collapse reads the mesh by id: the copies were 31 MB it threw away).
+pub(super) fn build_blocks(
+    mesh: &TriangleMesh,
+    params: &BvhParams,
+    block_shift: u32,
+    tris: bool,
+) -> Result<Built, BuildError> {
+    build_limited(mesh, params, SAH_DEPTH_LIMIT, block_shift, tris)
 }
 
 /// [`build`] with median splits from depth `sah_depth_limit` on (tests use small limits:
@@ -143,6 +181,7 @@ fn build_limited(
     params: &BvhParams,
     sah_depth_limit: u32,
     block_shift: u32,
+    with_tris: bool,
 ) -> Result<Built, BuildError> {
     params.validate()?;
     mesh.validate()?;
@@ -151,57 +190,25 @@ fn build_limited(
     if n > (u32::MAX / 2) as usize {
         return Err(BuildError::Limit(format!("{n} triangles: the BVH node encoding holds at most 2^31 - 1")));
     }
-    let mut refs: Vec<PrimRef> = (0..n)
-        .into_par_iter()
-        .with_min_len(4096)
-        .map(|i| {
-            let t = mesh.triangle(i);
-            let b = t.bounds();
-            PrimRef { bounds: Box3 { lo: b.min.into(), hi: b.max.into() }, centroid: t.centroid(), id: i as u32 }
-        })
-        .collect();
-    let bounds = refs
-        .par_iter()
-        .with_min_len(4096)
-        .fold(|| Box3::EMPTY, |b, r| b.union(&r.bounds))
-        .reduce(|| Box3::EMPTY, |a, b| a.union(&b));
+    let mut refs: Vec<PrimRef> =
+        (0..n).into_par_iter().with_min_len(4096).map(|i| PrimRef::new(&mesh.triangle(i).bounds(), i as u32)).collect();
+    // Box and centroid box in one pass; below the root, partition gathers centroid boxes.
+    let (bounds, cb) = refs
+        .par_chunks(BIN_CHUNK)
+        .map(|c| c.iter().fold((Box3::EMPTY, Box3::EMPTY), |(b, cb), r| (b.union(&r.bounds()), cb.with(r.center2()))))
+        .reduce(|| (Box3::EMPTY, Box3::EMPTY), |(a, ac), (b, bc)| (a.union(&b), ac.union(&bc)));
 
-    // Scratch slots: zeroed u32s come from calloc, cheaper than writing 2n nodes.
-    let mut scratch = vec![0u32; (2 * n - 1) * 8];
-    let slots: &mut [BvhNode] = bytemuck::cast_slice_mut(&mut scratch);
-    let (root, rest) = slots.split_at_mut(1);
     let builder = Builder { params, bins: params.bins as usize, sah_depth_limit, block_shift };
-    let (root_node, count) = builder.subtree(&mut refs, 0, bounds, 0, rest, 1);
-    root[0] = root_node;
-    let (nodes, depth) = compact(slots, count as usize);
+    let (part, count) = builder.subtree(&mut refs, 0, bounds, cb, 0);
+    let (nodes, depth) = assemble(part, count as usize);
 
-    let tris = refs.par_iter().with_min_len(4096).map(|r| mesh.triangle(r.id as usize)).collect();
-    let ids = refs.iter().map(|r| r.id).collect();
+    let tris = if with_tris {
+        refs.par_iter().with_min_len(4096).map(|r| mesh.triangle(r.id() as usize)).collect()
+    } else {
+        Vec::new()
+    };
+    let ids = refs.par_iter().with_min_len(4096).map(|r| r.id()).collect();
     Ok(Built { nodes, tris, ids, depth })
-}
-
-/// Copies the used scratch slots into a dense array in depth-first order, keeping every
-/// children pair adjacent. Returns them and the depth of the deepest leaf.
-fn compact(slots: &[BvhNode], count: usize) -> (Vec<BvhNode>, u32) {
-    let mut out = Vec::with_capacity(count);
-    out.push(slots[0]);
-    let mut depth = 0;
-    let mut stack = vec![(0usize, 0u32)];
-    while let Some((i, d)) = stack.pop() {
-        depth = depth.max(d);
-        if out[i].is_leaf() {
-            continue;
-        }
-        let old = out[i].index as usize;
-        let l = out.len();
-        out.push(slots[old]);
-        out.push(slots[old + 1]);
-        out[i].index = l as u32;
-        stack.push((l + 1, d + 1));
-        stack.push((l, d + 1));
-    }
-    debug_assert_eq!(out.len(), count);
-    (out, depth)
 }
 
 /// How a node is divided.
@@ -231,6 +238,15 @@ struct Builder<'a> {
     block_shift: u32,
 }
 
+/// A node's two sides after its split: counts, boxes and centroid boxes.
+struct Sides {
+    nl: usize,
+    lb: Box3,
+    rb: Box3,
+    lc: Box3,
+    rc: Box3,
+}
+
 impl Builder<'_> {
     /// SAH cost of intersecting `n` triangles: `n`, or the number of blocks they fill.
     #[inline(always)]
@@ -238,64 +254,85 @@ impl Builder<'_> {
         ((n + (1 << self.block_shift) - 1) >> self.block_shift) as f32
     }
 
+    /// Splits the node over `refs` (box `bounds`, centroid box `cb`), reordering `refs`
+    /// left side first; `None` makes it a leaf.
+    fn split(&self, refs: &mut [PrimRef], bounds: &Box3, cb: &Box3, depth: u32) -> Option<Sides> {
+        let n = refs.len();
+        if n == 1 || n < self.params.leaf_size as usize {
+            return None;
+        }
+        let s = match self.choose_split(refs, bounds, cb, depth) {
+            Split::Leaf => return None,
+            Split::Plane { axis, bin, k, cmin, scale, left, right, left_count } => {
+                let (nl, lc, rc) = partition(refs, |c| bin_of(c[axis], cmin, scale, k) < bin);
+                assert_eq!(nl, left_count, "partition disagrees with binning (axis {axis}, bin {bin})");
+                Sides { nl, lb: left, rb: right, lc, rc }
+            }
+            Split::Median { axis } => median_split(refs, axis),
+        };
+        debug_assert!(s.nl > 0 && s.nl < n, "split of {n} left {}", s.nl);
+        Some(s)
+    }
+
     /// Builds the subtree over `refs` (triangles `first ..` of the leaf order) and returns
-    /// its root node and node count. Its descendants go into `slots`, which has exactly
-    /// `2n - 2` entries and starts at global index `base`.
-    fn subtree(
+    /// it with its node count. Large nodes build their two sides with `rayon::join`; below
+    /// `PARALLEL_THRESHOLD` one thread builds the subtree straight into its final layout.
+    fn subtree(&self, refs: &mut [PrimRef], first: u32, bounds: Box3, cb: Box3, depth: u32) -> (Part, u32) {
+        let n = refs.len();
+        if n < PARALLEL_THRESHOLD {
+            // Capacity is only reserved: untouched pages cost nothing.
+            let mut nodes = Vec::with_capacity(2 * n - 1);
+            nodes.push(BvhNode::default());
+            let deepest = self.sequential(refs, first, bounds, cb, depth, &mut nodes, 0);
+            let count = nodes.len() as u32;
+            return (Part::Nodes { nodes, deepest }, count);
+        }
+        let Some(s) = self.split(refs, &bounds, &cb, depth) else {
+            let nodes = vec![BvhNode::leaf(&bounds.aabb(), first, n as u32)];
+            return (Part::Nodes { nodes, deepest: depth }, 1);
+        };
+        let (lrefs, rrefs) = refs.split_at_mut(s.nl);
+        let rfirst = first + s.nl as u32;
+        let ((l, lc), (r, rc)) = rayon::join(
+            || self.subtree(lrefs, first, s.lb, s.lc, depth + 1),
+            || self.subtree(rrefs, rfirst, s.rb, s.rc, depth + 1),
+        );
+        let part = Part::Pair { bounds: bounds.aabb(), kids: Box::new([l, r]) };
+        (part, 1 + lc + rc)
+    }
+
+    /// Builds the subtree over `refs` into `nodes` (its root at `nodes[at]`, already
+    /// pushed) in depth-first order: each children pair, then the left child's
+    /// descendants, then the right one's. Returns the depth of its deepest leaf.
+    #[allow(clippy::too_many_arguments)]
+    fn sequential(
         &self,
         refs: &mut [PrimRef],
         first: u32,
         bounds: Box3,
+        cb: Box3,
         depth: u32,
-        slots: &mut [BvhNode],
-        base: u32,
-    ) -> (BvhNode, u32) {
-        let n = refs.len();
-        debug_assert_eq!(slots.len(), 2 * n - 2);
-        let leaf = (BvhNode::leaf(&bounds.aabb(), first, n as u32), 1);
-        if n == 1 || n < self.params.leaf_size as usize {
-            return leaf;
-        }
-        let (nl, lb, rb) = match self.choose_split(refs, &bounds, depth) {
-            Split::Leaf => return leaf,
-            Split::Plane { axis, bin, k, cmin, scale, left, right, left_count } => {
-                let nl = partition(refs, |r| bin_of(r.centroid[axis], cmin, scale, k) < bin);
-                assert_eq!(nl, left_count, "partition disagrees with binning (axis {axis}, bin {bin})");
-                (nl, left, right)
-            }
-            Split::Median { axis } => median_split(refs, axis),
+        nodes: &mut Vec<BvhNode>,
+        at: usize,
+    ) -> u32 {
+        let Some(s) = self.split(refs, &bounds, &cb, depth) else {
+            nodes[at] = BvhNode::leaf(&bounds.aabb(), first, refs.len() as u32);
+            return depth;
         };
-        debug_assert!(nl > 0 && nl < n, "split of {n} left {nl}");
-        let (lrefs, rrefs) = refs.split_at_mut(nl);
-        let (pair, desc) = slots.split_at_mut(2);
-        let (ldesc, rdesc) = desc.split_at_mut(2 * nl - 2);
-        let (lbase, rbase) = (base + 2, base + 2 * nl as u32);
-        let rfirst = first + nl as u32;
-        let ((l, lc), (r, rc)) = if n >= PARALLEL_THRESHOLD {
-            rayon::join(
-                || self.subtree(lrefs, first, lb, depth + 1, ldesc, lbase),
-                || self.subtree(rrefs, rfirst, rb, depth + 1, rdesc, rbase),
-            )
-        } else {
-            (
-                self.subtree(lrefs, first, lb, depth + 1, ldesc, lbase),
-                self.subtree(rrefs, rfirst, rb, depth + 1, rdesc, rbase),
-            )
-        };
-        pair[0] = l;
-        pair[1] = r;
-        (BvhNode::interior(&bounds.aabb(), base), 1 + lc + rc)
+        let l = nodes.len();
+        nodes[at] = BvhNode::interior(&bounds.aabb(), l as u32);
+        nodes.extend([BvhNode::default(); 2]);
+        let (lrefs, rrefs) = refs.split_at_mut(s.nl);
+        let dl = self.sequential(lrefs, first, s.lb, s.lc, depth + 1, nodes, l);
+        let dr = self.sequential(rrefs, first + s.nl as u32, s.rb, s.rc, depth + 1, nodes, l + 1);
+        dl.max(dr)
     }
 
     /// Seed 003 steps 3–6: bins on all three axes over the centroid box, the cheapest of
     /// the `k - 1` planes per axis, and a leaf when that plane costs more than a leaf.
-    fn choose_split(&self, refs: &[PrimRef], bounds: &Box3, depth: u32) -> Split {
+    fn choose_split(&self, refs: &[PrimRef], bounds: &Box3, cb: &Box3, depth: u32) -> Split {
         let n = refs.len();
-        let cb = if n >= PARALLEL_BIN_THRESHOLD {
-            refs.par_chunks(BIN_CHUNK).map(centroid_bounds).reduce(|| Box3::EMPTY, |a, b| a.union(&b))
-        } else {
-            centroid_bounds(refs)
-        };
+        let cb = *cb;
         // A node of n triangles fills at most n bins per axis: small nodes use fewer
         // (never below 8), which cut the dragon's build by 6 % at an unchanged SAH cost.
         let k = self.bins.min(n.max(8));
@@ -391,76 +428,98 @@ impl Builder<'_> {
     }
 }
 
-fn centroid_bounds(refs: &[PrimRef]) -> Box3 {
-    let mut b = Box3::EMPTY;
-    for r in refs {
-        b.grow(r.centroid.into());
-    }
-    b
-}
-
 /// Adds `refs` to the bins of all three axes.
 fn bin_refs(refs: &[PrimRef], cb: &Box3, scale: Vec3A, k: usize, bins: &mut Bins) {
     for r in refs {
         // Lane by lane the same IEEE operations as `bin_of`, so partition agrees exactly.
-        let t = ((Vec3A::from(r.centroid) - cb.lo) * scale).to_array();
+        let t = ((r.center2() - cb.lo) * scale).to_array();
+        let b = r.bounds();
         for (axis, t) in t.into_iter().enumerate() {
             let i = axis * k + (t as usize).min(k - 1);
-            bins.boxes[i] = bins.boxes[i].union(&r.bounds);
+            bins.boxes[i] = bins.boxes[i].union(&b);
             bins.counts[i] += 1;
         }
     }
 }
 
-/// Seed 003 Algorithm 2.2: Hoare-style in-place partition; returns the number of refs for
-/// which `is_left` holds, which end up first.
-fn partition(refs: &mut [PrimRef], is_left: impl Fn(&PrimRef) -> bool) -> usize {
+/// Seed 003 Algorithm 2.2: Hoare-style in-place partition by the centroid predicate
+/// `is_left`. Returns the number of left refs (they end up first) and the centroid boxes
+/// of both sides, gathered on the way (a separate pass per node cost a read of every ref).
+fn partition(refs: &mut [PrimRef], is_left: impl Fn(Vec3A) -> bool) -> (usize, Box3, Box3) {
     let (mut l, mut r) = (0, refs.len());
+    let (mut lc, mut rc) = (Box3::EMPTY, Box3::EMPTY);
     loop {
-        while l < r && is_left(&refs[l]) {
+        while l < r {
+            let c = refs[l].center2();
+            if !is_left(c) {
+                break;
+            }
+            lc.grow(c);
             l += 1;
         }
-        while l < r && !is_left(&refs[r - 1]) {
+        while l < r {
+            let c = refs[r - 1].center2();
+            if is_left(c) {
+                break;
+            }
+            rc.grow(c);
             r -= 1;
         }
         if l >= r {
-            return l;
+            return (l, lc, rc);
         }
+        // refs[l] is right and refs[r - 1] left: swapped, each joins its side.
         refs.swap(l, r - 1);
+        lc.grow(refs[l].center2());
+        rc.grow(refs[r - 1].center2());
         l += 1;
         r -= 1;
     }
 }
 
-/// Halves `refs`: by centroid order along `axis` (object median), or by index. Returns the
-/// left count and both halves' boxes.
-fn median_split(refs: &mut [PrimRef], axis: Option<usize>) -> (usize, Box3, Box3) {
+/// Halves `refs`: by centroid order along `axis` (object median), or by index.
+fn median_split(refs: &mut [PrimRef], axis: Option<usize>) -> Sides {
     let mid = refs.len() / 2;
     if let Some(a) = axis {
         // `select_nth_unstable` is deterministic for a given input order.
-        refs.select_nth_unstable_by(mid, |x, y| x.centroid[a].total_cmp(&y.centroid[a]).then(x.id.cmp(&y.id)));
+        refs.select_nth_unstable_by(mid, |x, y| x.center2()[a].total_cmp(&y.center2()[a]).then(x.id().cmp(&y.id())));
     }
-    let bounds = |s: &[PrimRef]| s.iter().fold(Box3::EMPTY, |b, r| b.union(&r.bounds));
-    (mid, bounds(&refs[..mid]), bounds(&refs[mid..]))
+    let boxes = |s: &[PrimRef]| {
+        s.iter().fold((Box3::EMPTY, Box3::EMPTY), |(b, c), r| (b.union(&r.bounds()), c.with(r.center2())))
+    };
+    let ((lb, lc), (rb, rc)) = (boxes(&refs[..mid]), boxes(&refs[mid..]));
+    Sides { nl: mid, lb, rb, lc, rc }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use dynray_geom::Vec3;
 
     fn r(x: f32, id: u32) -> PrimRef {
         let p = Vec3::new(x, 0.0, 0.0);
-        PrimRef { bounds: Box3 { lo: p.into(), hi: p.into() }, centroid: p, id }
+        PrimRef::new(&Aabb::new(p, p), id)
+    }
+
+    #[test]
+    fn prim_ref_is_32_bytes_and_keeps_its_id() {
+        assert_eq!(std::mem::size_of::<PrimRef>(), 32);
+        // Ids whose bits are NaNs or denormals as floats survive.
+        for id in [0, 1, 0x7fc0_0001, u32::MAX] {
+            assert_eq!(r(1.0, id).id(), id);
+        }
     }
 
     #[test]
     fn partition_keeps_every_ref_and_splits_at_the_predicate() {
         let mut v: Vec<PrimRef> =
             [5.0, 1.0, 7.0, 2.0, 9.0, 0.0, 3.0].iter().enumerate().map(|(i, &x)| r(x, i as u32)).collect();
-        let nl = partition(&mut v, |p| p.centroid.x < 4.0);
+        // Centres are doubled: 2x < 8 is x < 4.
+        let (nl, lc, rc) = partition(&mut v, |c| c.x < 8.0);
         assert_eq!(nl, 4);
-        assert!(v[..nl].iter().all(|p| p.centroid.x < 4.0) && v[nl..].iter().all(|p| p.centroid.x >= 4.0));
-        let mut ids: Vec<u32> = v.iter().map(|p| p.id).collect();
+        assert!(v[..nl].iter().all(|p| p.center2().x < 8.0) && v[nl..].iter().all(|p| p.center2().x >= 8.0));
+        assert_eq!((lc.lo.x, lc.hi.x, rc.lo.x, rc.hi.x), (0.0, 6.0, 10.0, 18.0));
+        let mut ids: Vec<u32> = v.iter().map(|p| p.id()).collect();
         ids.sort();
         assert_eq!(ids, (0..7).collect::<Vec<_>>());
     }
@@ -468,9 +527,9 @@ mod tests {
     #[test]
     fn partition_handles_all_left_and_all_right() {
         let mut v: Vec<PrimRef> = (0..5).map(|i| r(i as f32, i)).collect();
-        assert_eq!(partition(&mut v, |_| true), 5);
-        assert_eq!(partition(&mut v, |_| false), 0);
-        assert_eq!(partition(&mut [], |_| true), 0);
+        assert_eq!(partition(&mut v, |_| true).0, 5);
+        assert_eq!(partition(&mut v, |_| false).0, 0);
+        assert_eq!(partition(&mut [], |_| true).0, 0);
     }
 
     #[test]
@@ -485,13 +544,41 @@ mod tests {
         let p = BvhParams::default();
         let sah = build(&mesh, &p).unwrap();
         for limit in [0, 1, 3] {
-            let b = build_limited(&mesh, &p, limit, 0).unwrap();
+            let b = build_limited(&mesh, &p, limit, 0, true).unwrap();
             // Median splits halve every node: at most ceil(log2(2000)) = 11 more levels.
             assert!(b.depth <= limit + 11, "limit {limit}: depth {}", b.depth);
             assert_ne!(b.nodes, sah.nodes, "limit {limit} changed nothing");
             let mut ids = b.ids.clone();
             ids.sort_unstable();
             assert!(ids.iter().enumerate().all(|(i, &id)| id == i as u32));
+        }
+    }
+
+    /// The node array and leaf order do not depend on the thread count, on a mesh large
+    /// enough for parallel binning (`PARALLEL_BIN_THRESHOLD`) and parallel subtrees.
+    #[test]
+    fn same_tree_on_one_and_two_threads() {
+        let n = PARALLEL_BIN_THRESHOLD as u32 + 5000;
+        let mut pos = Vec::new();
+        for i in 0..n {
+            // A scrambled cloud: clustered in x, spread in y and z.
+            let h = i.wrapping_mul(2_654_435_761);
+            let (x, y, z) = ((h % 97) as f32 * 0.01, (h >> 8) as f32 * 1e-6, (i % 1000) as f32 * 0.03);
+            pos.extend([[x, y, z], [x + 0.04, y, z + 0.01], [x, y + 0.05, z + 0.02]]);
+        }
+        let mesh = TriangleMesh::new(pos, (0..n).map(|i| [3 * i, 3 * i + 1, 3 * i + 2]).collect());
+        let p = BvhParams::default();
+        let run = |threads: usize, shift: u32| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| build_blocks(&mesh, &p, shift, false).unwrap())
+        };
+        for shift in [0, 2] {
+            let (one, two) = (run(1, shift), run(2, shift));
+            assert!(one.nodes.len() > 2 * n as usize / p.max_leaf_size as usize);
+            assert_eq!(one.nodes, two.nodes, "block shift {shift}");
+            assert_eq!(one.ids, two.ids, "block shift {shift}");
+            assert_eq!(one.depth, two.depth);
+            assert!(one.tris.is_empty());
         }
     }
 

@@ -12,6 +12,7 @@
 //! Leaf size `M` (the seed found 5): measured with `benches/bvh.rs` on this 2-core machine,
 //! see the comment on [`BvhParams::default`].
 
+mod assemble;
 mod build;
 mod closest;
 pub mod node;
@@ -59,18 +60,30 @@ impl Bvh {
 
     /// [`Bvh::build`] with leaves costed in blocks of `2^block_shift` triangles (the wide
     /// BVH's leaf blocks; see `build::build_blocks`): the binary tree the wide BVH collapses.
+    #[cfg(test)]
     pub(crate) fn build_block_cost(
         mesh: &TriangleMesh,
         params: &BvhParams,
         block_shift: u32,
     ) -> Result<Self, BuildError> {
-        let built = build::build_blocks(mesh, params, block_shift)?;
+        let built = build::build_blocks(mesh, params, block_shift, true)?;
         let bvh = Self { nodes: built.nodes, tris: built.tris, ids: built.ids, params: *params, depth: built.depth };
         #[cfg(debug_assertions)]
         if let Err(e) = bvh.check_invariants(mesh) {
             panic!("the builder produced an invalid BVH: {e}");
         }
         Ok(bvh)
+    }
+
+    /// The node array and leaf-order mesh ids of [`Bvh::build_block_cost`]'s tree, without
+    /// the leaf-order triangle copies the wide BVH's collapse does not read.
+    pub(crate) fn build_block_cost_nodes(
+        mesh: &TriangleMesh,
+        params: &BvhParams,
+        block_shift: u32,
+    ) -> Result<(Vec<BvhNode>, Vec<u32>), BuildError> {
+        let built = build::build_blocks(mesh, params, block_shift, false)?;
+        Ok((built.nodes, built.ids))
     }
 
     /// A tree assembled from arrays built elsewhere (the GPU builders of `dynray-gpu`),

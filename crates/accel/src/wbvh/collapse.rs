@@ -6,9 +6,10 @@
 //! Boxes are copied from the binary nodes unchanged, so every child box is exactly the
 //! union of what lies below it, as the binary tree's are.
 
-use super::block::TriBlock;
+use super::block::{TriBlock, LANES};
 use super::node::{leaf_ref, WideNode, MAX_BLOCKS};
-use crate::{BuildError, Bvh, BvhNode};
+use crate::{BuildError, BvhNode};
+use dynray_geom::Triangle;
 
 /// A collapsed tree: nodes root first (children after parents), blocks in leaf order.
 pub(super) struct Collapsed<N> {
@@ -18,29 +19,37 @@ pub(super) struct Collapsed<N> {
     pub levels: u32,
 }
 
-/// Collapses `bvh` into `W`-wide nodes.
-pub(super) fn collapse<N: WideNode>(bvh: &Bvh) -> Result<Collapsed<N>, BuildError> {
-    let n = bvh.triangles().len();
-    if n.div_ceil(4) + bvh.nodes().len() > MAX_BLOCKS as usize {
+/// Collapses the binary tree `bin` (leaf-order mesh ids `ids`) into `W`-wide nodes;
+/// `tri(i, id)` gives leaf-order triangle `i`, mesh index `id` (the build reads the mesh,
+/// so the binary tree need not copy its triangles).
+pub(super) fn collapse<N: WideNode>(
+    bin: &[BvhNode],
+    ids: &[u32],
+    tri: impl Fn(usize, u32) -> Triangle,
+) -> Result<Collapsed<N>, BuildError> {
+    let n = ids.len();
+    if n.div_ceil(4) + bin.len() > MAX_BLOCKS as usize {
         return Err(BuildError::Limit(format!("{n} triangles: a wide leaf reference addresses {MAX_BLOCKS} blocks")));
     }
     let mut c = Collapser {
-        bin: bvh.nodes(),
-        bvh,
-        out: Collapsed { nodes: Vec::with_capacity(bvh.nodes().len() / 4), blocks: Vec::new(), levels: 0 },
+        bin,
+        ids,
+        tri,
+        out: Collapsed { nodes: Vec::with_capacity(bin.len() / 4), blocks: Vec::new(), levels: 0 },
     };
     c.out.blocks.reserve(n / 3);
     c.node(0, 1);
     Ok(c.out)
 }
 
-struct Collapser<'a, N> {
+struct Collapser<'a, N, T> {
     bin: &'a [BvhNode],
-    bvh: &'a Bvh,
+    ids: &'a [u32],
+    tri: T,
     out: Collapsed<N>,
 }
 
-impl<N: WideNode> Collapser<'_, N> {
+impl<N: WideNode, T: Fn(usize, u32) -> Triangle> Collapser<'_, N, T> {
     /// Emits the wide node for binary node `b` at interior level `level` (root: 1) and
     /// returns its index.
     fn node(&mut self, b: usize, level: u32) -> u32 {
@@ -72,11 +81,13 @@ impl<N: WideNode> Collapser<'_, N> {
             let r = if bin[k].is_leaf() {
                 let (first, count) = (bin[k].index as usize, bin[k].count as usize);
                 let start = self.out.blocks.len() as u32;
-                TriBlock::pack(
-                    &self.bvh.triangles()[first..first + count],
-                    &self.bvh.triangle_ids()[first..first + count],
-                    &mut self.out.blocks,
-                );
+                for (c, ids) in self.ids[first..first + count].chunks(LANES).enumerate() {
+                    let mut block = TriBlock::PAD;
+                    for (lane, &id) in ids.iter().enumerate() {
+                        block.set(lane, &(self.tri)(first + c * LANES + lane, id), id);
+                    }
+                    self.out.blocks.push(block);
+                }
                 leaf_ref(start, self.out.blocks.len() as u32 - start)
             } else {
                 self.node(k, level + 1)

@@ -37,7 +37,7 @@ pub use packet::PACKET;
 pub use params::WbvhParams;
 pub use validate::InvalidWbvh;
 
-use crate::{Accel, AccelStats, BuildError, Bvh, InvalidStructure, NoCount, TraversalCounts};
+use crate::{Accel, AccelStats, BuildError, Bvh, BvhNode, InvalidStructure, NoCount, TraversalCounts};
 use dynray_geom::{Hit, Ray, TriangleMesh};
 pub(crate) use kernel::KernelChoice;
 
@@ -71,8 +71,19 @@ struct WideTree<N> {
 }
 
 impl<N: WideNode> WideTree<N> {
+    /// Collapses the binary tree `bin` (leaf-order mesh ids `ids`) over `mesh`.
+    fn collapse(bin: &[BvhNode], ids: &[u32], mesh: &TriangleMesh, kernel: KernelChoice) -> Result<Self, BuildError> {
+        Self::from(collapse::collapse::<N>(bin, ids, |_, id| mesh.triangle(id as usize))?, kernel)
+    }
+
+    /// Collapses a built binary tree, reading its triangle copies.
+    #[cfg(test)]
     fn build(bvh: &Bvh, kernel: KernelChoice) -> Result<Self, BuildError> {
-        let c = collapse::collapse::<N>(bvh)?;
+        let tris = bvh.triangles();
+        Self::from(collapse::collapse::<N>(bvh.nodes(), bvh.triangle_ids(), |i, _| tris[i])?, kernel)
+    }
+
+    fn from(c: collapse::Collapsed<N>, kernel: KernelChoice) -> Result<Self, BuildError> {
         let stack_need = traverse::stack_need(c.levels, N::W);
         Ok(Self { nodes: c.nodes, blocks: c.blocks, levels: c.levels, stack_need, kernel })
     }
@@ -96,11 +107,11 @@ impl Wbvh {
         use crate::StructureParams;
         params.validate()?;
         let shift = if params.block_cost { 2 } else { 0 };
-        let bvh = Bvh::build_block_cost(mesh, &params.bvh, shift)?;
+        let (bin, ids) = Bvh::build_block_cost_nodes(mesh, &params.bvh, shift)?;
         let kernel = KernelChoice::detect(params.scalar);
         let tree = match params.width {
-            4 => Tree::W4(WideTree::build(&bvh, kernel)?),
-            _ => Tree::W8(WideTree::build(&bvh, kernel)?),
+            4 => Tree::W4(WideTree::collapse(&bin, &ids, mesh, kernel)?),
+            _ => Tree::W8(WideTree::collapse(&bin, &ids, mesh, kernel)?),
         };
         let w = Self { tree, params: *params };
         #[cfg(debug_assertions)]
