@@ -15,6 +15,9 @@ pub struct BoxRay {
     pub org: [f32; 3],
     /// Reciprocal direction, ±∞ for a zero component.
     pub inv: [f32; 3],
+    /// Per axis, `inv` is negative (−0 directions give −∞): the ray enters a slab
+    /// through its upper plane, so the SIMD kernels read `hi` as the near plane.
+    pub neg: [bool; 3],
 }
 
 impl BoxRay {
@@ -22,7 +25,13 @@ impl BoxRay {
     #[inline(always)]
     pub fn new(ray: &Ray) -> Self {
         let inv = dynray_geom::Vec3::ONE / ray.dir;
-        Self { org: ray.origin.to_array(), inv: inv.to_array() }
+        Self::from_parts(ray.origin.to_array(), inv.to_array())
+    }
+
+    /// The box constants from an origin and reciprocal direction.
+    #[inline(always)]
+    pub fn from_parts(org: [f32; 3], inv: [f32; 3]) -> Self {
+        Self { org, inv, neg: inv.map(|x| x.is_sign_negative()) }
     }
 }
 

@@ -128,6 +128,26 @@ fn block_test(b: &TriBlock, r: &PreparedRay, tmax: f32) -> Option<BlockHits> {
     }
 }
 
+/// The planes through which the ray enters and leaves the children's slabs along `axis`:
+/// `lo` then `hi`, or `hi` then `lo` where the ray runs towards −axis.
+///
+/// Why this equals the scalar kernel's `min`/`max` of the two plane distances: for a
+/// child box (`lo <= hi`), `(lo − o)` and `(hi − o)` round in the same order, and
+/// multiplying by `inv` keeps it (`inv >= 0`) or reverses it (`inv < 0`), so the near
+/// distance is the one from the plane chosen here. A distance is NaN only as `0 × ∞` (the
+/// origin on a plane, the direction parallel to it), where the other plane's distance is
+/// ±∞ or NaN too, and the NaN-ignoring `max`/`min` of the caller then leave the
+/// interval as `or_if_nan`'s ±∞ does. (A non-finite origin can differ, but no triangle
+/// test accepts such a ray: every value it computes is NaN.)
+#[inline(always)]
+fn near_far<'n, N: WideNode>(node: &'n N, r: &BoxRay, axis: usize) -> (&'n [f32], &'n [f32]) {
+    if r.neg[axis] {
+        (node.hi(axis), node.lo(axis))
+    } else {
+        (node.lo(axis), node.hi(axis))
+    }
+}
+
 /// Widens near (`far == false`) or far distances outwards by [`SLAB_MARGIN`], as
 /// `Aabb::clip`: `x * (1 ∓ m)` by the sign of `x`.
 macro_rules! widen {
@@ -146,16 +166,16 @@ impl Kernel for Avx2 {
         unsafe {
             if N::W == 8 {
                 let load = |s: &[f32]| cast::<[f32; 8], __m256>(s.try_into().expect("8 lanes"));
-                let (ninf, pinf) = (_mm256_set1_ps(f32::NEG_INFINITY), _mm256_set1_ps(f32::INFINITY));
-                let (mut n, mut f) = (ninf, pinf);
+                let (mut n, mut f) = (_mm256_set1_ps(f32::NEG_INFINITY), _mm256_set1_ps(f32::INFINITY));
                 for a in 0..3 {
                     let (o, inv) = (_mm256_set1_ps(r.org[a]), _mm256_set1_ps(r.inv[a]));
-                    let t0 = _mm256_mul_ps(_mm256_sub_ps(load(node.lo(a)), o), inv);
-                    let t1 = _mm256_mul_ps(_mm256_sub_ps(load(node.hi(a)), o), inv);
-                    let near_a = _mm256_min_ps(_mm256_max_ps(t0, ninf), _mm256_max_ps(t1, ninf));
-                    let far_a = _mm256_max_ps(_mm256_min_ps(t0, pinf), _mm256_min_ps(t1, pinf));
-                    n = _mm256_max_ps(n, near_a);
-                    f = _mm256_min_ps(f, far_a);
+                    let (near_plane, far_plane) = near_far(node, r, a);
+                    let tn = _mm256_mul_ps(_mm256_sub_ps(load(near_plane), o), inv);
+                    let tf = _mm256_mul_ps(_mm256_sub_ps(load(far_plane), o), inv);
+                    // `maxps(x, n)` is `n` when `x` is NaN: a NaN slab leaves the interval
+                    // as it was, as the scalar kernel's `or_if_nan` does.
+                    n = _mm256_max_ps(tn, n);
+                    f = _mm256_min_ps(tf, f);
                 }
                 let zero = _mm256_setzero_ps();
                 let (lo_m, hi_m) = (1.0 - SLAB_MARGIN, 1.0 + SLAB_MARGIN);
@@ -169,16 +189,14 @@ impl Kernel for Avx2 {
             } else {
                 debug_assert_eq!(N::W, 4);
                 let load = |s: &[f32]| cast::<[f32; 4], __m128>(s.try_into().expect("4 lanes"));
-                let (ninf, pinf) = (_mm_set1_ps(f32::NEG_INFINITY), _mm_set1_ps(f32::INFINITY));
-                let (mut n, mut f) = (ninf, pinf);
+                let (mut n, mut f) = (_mm_set1_ps(f32::NEG_INFINITY), _mm_set1_ps(f32::INFINITY));
                 for a in 0..3 {
                     let (o, inv) = (_mm_set1_ps(r.org[a]), _mm_set1_ps(r.inv[a]));
-                    let t0 = _mm_mul_ps(_mm_sub_ps(load(node.lo(a)), o), inv);
-                    let t1 = _mm_mul_ps(_mm_sub_ps(load(node.hi(a)), o), inv);
-                    let near_a = _mm_min_ps(_mm_max_ps(t0, ninf), _mm_max_ps(t1, ninf));
-                    let far_a = _mm_max_ps(_mm_min_ps(t0, pinf), _mm_min_ps(t1, pinf));
-                    n = _mm_max_ps(n, near_a);
-                    f = _mm_min_ps(f, far_a);
+                    let (near_plane, far_plane) = near_far(node, r, a);
+                    let tn = _mm_mul_ps(_mm_sub_ps(load(near_plane), o), inv);
+                    let tf = _mm_mul_ps(_mm_sub_ps(load(far_plane), o), inv);
+                    n = _mm_max_ps(tn, n);
+                    f = _mm_min_ps(tf, f);
                 }
                 let zero = _mm_setzero_ps();
                 let (lo_m, hi_m) = (1.0 - SLAB_MARGIN, 1.0 + SLAB_MARGIN);

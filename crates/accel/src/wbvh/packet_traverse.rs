@@ -209,7 +209,7 @@ impl<N: WideNode> WideTree<N> {
         stack: &mut [LaneEntry],
     ) {
         // `BoxRay::new(ray)`'s values: the packet computed them the same way.
-        let br = BoxRay { org: p.org, inv: [p.inv[0][l], p.inv[1][l], p.inv[2][l]] };
+        let br = BoxRay::from_parts(p.org, [p.inv[0][l], p.inv[1][l], p.inv[2][l]]);
         let (tmin, tmax) = (p.tmin[l], p.tmax[l]);
         let mut near: Nears = [0.0; 8];
         let mut sp = 0usize;
