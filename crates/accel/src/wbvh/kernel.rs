@@ -51,6 +51,13 @@ pub trait Kernel {
 
     /// True when a triangle of the block is hit within `[tmin, tmax]`.
     fn any(b: &TriBlock, r: &PreparedRay) -> bool;
+
+    /// Starts loading the cache lines of `x` (a child the traversal will visit later);
+    /// no effect on any answer.
+    #[inline(always)]
+    fn prefetch<T>(x: &T) {
+        let _ = x;
+    }
 }
 
 /// The portable kernel and the specification: the scalar triangle test on every real lane,

@@ -229,6 +229,15 @@ impl Kernel for Avx2 {
     fn any(b: &TriBlock, r: &PreparedRay) -> bool {
         block_test(b, r, r.ray.tmax).is_some()
     }
+
+    #[inline(always)]
+    fn prefetch<T>(x: &T) {
+        let p = x as *const T as *const i8;
+        for line in (0..std::mem::size_of::<T>()).step_by(64) {
+            // SAFETY: a prefetch never faults, and the address is inside `x`.
+            unsafe { _mm_prefetch::<_MM_HINT_T0>(p.wrapping_add(line)) }
+        }
+    }
 }
 
 /// Entry points for the tests, compiled with AVX2 so the kernels inline as they do in

@@ -139,6 +139,11 @@ impl<N: WideNode> WideTree<N> {
                         stack[j] = e;
                         sp += 1;
                     }
+                    // The deferred children's first cache misses overlap the work on the
+                    // nearest one (the traversal is bound by node and block loads).
+                    for e in &stack[start..sp - 1] {
+                        self.prefetch_child::<K>(e.node);
+                    }
                     sp -= 1;
                     cur = stack[sp].node;
                     continue;
@@ -156,6 +161,19 @@ impl<N: WideNode> WideTree<N> {
                     break;
                 }
             }
+        }
+    }
+
+    /// Starts loading child `r`: its node, or its leaf's blocks.
+    #[inline(always)]
+    fn prefetch_child<K: Kernel>(&self, r: ChildRef) {
+        if is_leaf(r) {
+            let (first, count) = leaf_blocks(r);
+            for b in &self.blocks[first..first + count] {
+                K::prefetch(b);
+            }
+        } else {
+            K::prefetch(&self.nodes[r as usize]);
         }
     }
 
@@ -186,7 +204,9 @@ impl<N: WideNode> WideTree<N> {
                     let i = m.trailing_zeros() as usize;
                     m &= m - 1;
                     while m != 0 {
-                        stack[sp] = node.child(m.trailing_zeros() as usize);
+                        let c = node.child(m.trailing_zeros() as usize);
+                        self.prefetch_child::<K>(c);
+                        stack[sp] = c;
                         sp += 1;
                         m &= m - 1;
                     }
