@@ -217,7 +217,7 @@ fn adversarial_packets_are_single_rays() {
 fn structures_without_packets_answer_coherent_queries_one_ray_at_a_time() {
     let mesh = bunny();
     let rays = camera_packets(&mesh, 200, 3);
-    let bvh = dynray_accel::AccelKind::Bvh.build(&mesh).unwrap();
+    let bvh = dynray_accel::AccelKind::Bvh2.build(&mesh).unwrap();
     assert!(!bvh.traces_packets());
     let mut got = vec![Hit::MISS; rays.len()];
     bvh.intersect_coherent_into(&rays, &mut got);

@@ -5,7 +5,9 @@
 use super::kernel::{BoxRay, Kernel, Nears, Scalar};
 use super::node::{is_leaf, leaf_blocks, ChildRef, WideNode};
 use super::packet::{lanes, Frustum, Lanes, Packet, PacketKernel, PACKET};
+use super::traverse::{self, Below};
 use super::WideTree;
+use crate::NoCount;
 use dynray_geom::{Hit, PreparedRay, Ray};
 
 /// A deferred child: which lanes enter it, where, and the frustum's entry distance.
@@ -17,13 +19,6 @@ struct Entry {
     near: Lanes,
 }
 
-/// A deferred child of a lane walking alone, and its entry distance.
-#[derive(Clone, Copy, Default)]
-struct LaneEntry {
-    node: ChildRef,
-    t: f32,
-}
-
 /// At or below this many lanes entering a node, the packet hands them to single-ray
 /// walks of that subtree (Embree's switch threshold for coherent rays is 2): a packet
 /// test serves 8 lanes for about the price of two single-ray node tests.
@@ -33,7 +28,7 @@ const ALONE: u32 = 2;
 /// constants. Made once per batch, so that a packet does not start by zeroing a stack.
 pub struct PacketScratch {
     stack: Vec<Entry>,
-    lane_stack: Vec<LaneEntry>,
+    lane_stack: Vec<traverse::Entry>,
     pr: [Option<PreparedRay>; PACKET],
 }
 
@@ -42,7 +37,7 @@ impl PacketScratch {
     pub fn new(stack_need: usize) -> Self {
         Self {
             stack: vec![Entry::default(); stack_need],
-            lane_stack: vec![LaneEntry::default(); stack_need],
+            lane_stack: vec![traverse::Entry::default(); stack_need],
             pr: [None; PACKET],
         }
     }
@@ -194,8 +189,8 @@ impl<N: WideNode> WideTree<N> {
     }
 
     /// Lane `l` (ray `ray`) alone through the subtree under the interior node `root`,
-    /// from its best hit so far: the single-ray traversal of traverse.rs (the same box
-    /// test, order and culling), restated because that one starts at the root.
+    /// from its best hit so far: the single-ray traversal of traverse.rs
+    /// ([`WideTree::closest_below`]), with the packet's box constants for the lane.
     #[allow(clippy::too_many_arguments)] // the lane's share of the packet's state
     #[inline(always)]
     fn closest_lane<K: Kernel>(
@@ -206,59 +201,11 @@ impl<N: WideNode> WideTree<N> {
         p: &Packet,
         pr: &mut Option<PreparedRay>,
         best: &mut Hit,
-        stack: &mut [LaneEntry],
+        stack: &mut [traverse::Entry],
     ) {
         // `BoxRay::new(ray)`'s values: the packet computed them the same way.
         let br = BoxRay::from_parts(p.org, [p.inv[0][l], p.inv[1][l], p.inv[2][l]]);
-        let (tmin, tmax) = (p.tmin[l], p.tmax[l]);
-        let mut near: Nears = [0.0; 8];
-        let mut sp = 0usize;
-        let mut cur = root;
-        loop {
-            if is_leaf(cur) {
-                let pr = pr.get_or_insert_with(|| PreparedRay::new(ray));
-                let (first, count) = leaf_blocks(cur);
-                for b in &self.blocks[first..first + count] {
-                    K::closest(b, pr, best);
-                }
-            } else {
-                let node = &self.nodes[cur as usize];
-                let mask = K::boxes(node, &br, tmin, best.t.min(tmax), &mut near);
-                if mask != 0 {
-                    if mask & (mask - 1) == 0 {
-                        cur = node.child(mask.trailing_zeros() as usize);
-                        continue;
-                    }
-                    let start = sp;
-                    let mut m = mask;
-                    while m != 0 {
-                        let i = m.trailing_zeros() as usize;
-                        m &= m - 1;
-                        let e = LaneEntry { node: node.child(i), t: near[i] };
-                        let mut j = sp;
-                        while j > start && stack[j - 1].t < e.t {
-                            stack[j] = stack[j - 1];
-                            j -= 1;
-                        }
-                        stack[j] = e;
-                        sp += 1;
-                    }
-                    sp -= 1;
-                    cur = stack[sp].node;
-                    continue;
-                }
-            }
-            loop {
-                if sp == 0 {
-                    return;
-                }
-                sp -= 1;
-                let e = stack[sp];
-                if e.t <= best.t {
-                    cur = e.node;
-                    break;
-                }
-            }
-        }
+        let below = Below { root, ray, br: &br, tmin: p.tmin[l], tmax: p.tmax[l] };
+        self.closest_below::<K, NoCount>(&below, pr, best, stack, &mut NoCount);
     }
 }

@@ -29,9 +29,19 @@ pub(super) fn stack_need(levels: u32, width: usize) -> usize {
 
 /// A deferred child and its entry distance when it was pushed.
 #[derive(Clone, Copy, Default)]
-struct Entry {
+pub(super) struct Entry {
     node: ChildRef,
     t: f32,
+}
+
+/// Where a single-ray walk starts and what it tests with: the subtree, the ray, its box
+/// constants and its interval.
+pub(super) struct Below<'a> {
+    pub root: ChildRef,
+    pub ray: &'a Ray,
+    pub br: &'a BoxRay,
+    pub tmin: f32,
+    pub tmax: f32,
 }
 
 impl<N: WideNode> WideTree<N> {
@@ -94,30 +104,47 @@ impl<N: WideNode> WideTree<N> {
     /// Closest hit with an `S`-entry stack (`S >= self.stack_need`).
     #[inline(always)]
     fn closest_with<K: Kernel, C: Counter, const S: usize>(&self, ray: &Ray, c: &mut C) -> Hit {
-        let br = BoxRay::new(ray);
-        let (tmin, tmax) = (ray.tmin, ray.tmax);
         // The triangle test's constants (f64 shear, axis order) only once a leaf is reached:
         // rays that miss every box never pay for them.
         let mut pr: Option<PreparedRay> = None;
         let mut best = Hit::MISS;
         let mut stack = [Entry::default(); S];
+        let b = Below { root: 0, ray, br: &BoxRay::new(ray), tmin: ray.tmin, tmax: ray.tmax };
+        self.closest_below::<K, C>(&b, &mut pr, &mut best, &mut stack, c);
+        best
+    }
+
+    /// Keeps in `best` the closest hit of the subtree `b.root` for one ray, as the
+    /// single-ray walk does it from the root (also how a packet's lanes finish a subtree
+    /// alone): `pr` is filled at the first leaf, `stack` holds at least `stack_need`
+    /// entries.
+    #[inline(always)]
+    pub(super) fn closest_below<K: Kernel, C: Counter>(
+        &self,
+        b: &Below<'_>,
+        pr: &mut Option<PreparedRay>,
+        best: &mut Hit,
+        stack: &mut [Entry],
+        c: &mut C,
+    ) {
+        let (ray, br, tmin, tmax) = (b.ray, b.br, b.tmin, b.tmax);
         let mut sp = 0usize;
         let mut near: Nears = [0.0; 8];
-        let mut cur: ChildRef = 0;
+        let mut cur: ChildRef = b.root;
         loop {
             if is_leaf(cur) {
                 let pr = pr.get_or_insert_with(|| PreparedRay::new(ray));
                 let (first, count) = leaf_blocks(cur);
                 c.triangles(4 * count as u32);
-                for b in &self.blocks[first..first + count] {
-                    K::closest(b, pr, &mut best);
+                for blk in &self.blocks[first..first + count] {
+                    K::closest(blk, pr, best);
                 }
             } else {
                 let node = &self.nodes[cur as usize];
                 c.node();
                 // Cull only boxes entered after the best hit: `limit` = best.t keeps a box
                 // entered exactly at best.t (a lower-index triangle may tie there).
-                let mask = K::boxes(node, &br, tmin, best.t.min(tmax), &mut near);
+                let mask = K::boxes(node, br, tmin, best.t.min(tmax), &mut near);
                 if mask != 0 {
                     if mask & (mask - 1) == 0 {
                         cur = node.child(mask.trailing_zeros() as usize);
@@ -152,7 +179,7 @@ impl<N: WideNode> WideTree<N> {
             // Pop the next child still entered no later than the best hit.
             loop {
                 if sp == 0 {
-                    return best;
+                    return;
                 }
                 sp -= 1;
                 let e = stack[sp];
