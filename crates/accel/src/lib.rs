@@ -41,9 +41,10 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 #![deny(missing_docs)]
-// Everything here is plain safe Rust, except the wide BVH's AVX2 kernel (wbvh/kernel_avx2.rs
-// and the two `#[target_feature]` entry points in wbvh/traverse.rs), which allow
-// `unsafe_code` item by item with the reason beside it.
+// Everything here is plain safe Rust, except the wide BVH's AVX2 kernels (wbvh/kernel_avx2.rs,
+// wbvh/packet_avx2.rs, and the `#[target_feature]` entry points in wbvh/traverse.rs,
+// wbvh/packet_traverse.rs and wbvh/scan.rs), which allow `unsafe_code` item by item with
+// the reason beside it.
 #![deny(unsafe_code)]
 
 mod accel;
