@@ -252,12 +252,6 @@ pub trait PacketKernel {
 
     /// Lanes of `mask` whose `near <= limit`: those still entering a deferred child.
     fn entered(near: &Lanes, limit: &Lanes, mask: u32) -> u32;
-
-    /// Starts loading the cache lines of `x` (a child that some lanes will visit).
-    #[inline(always)]
-    fn prefetch<T>(x: &T) {
-        let _ = x;
-    }
 }
 
 impl PacketKernel for Scalar {

@@ -187,15 +187,6 @@ impl PacketKernel for Avx2 {
     }
 
     #[inline(always)]
-    fn prefetch<T>(x: &T) {
-        let p = x as *const T as *const i8;
-        for line in (0..std::mem::size_of::<T>()).step_by(64) {
-            // SAFETY: a prefetch never faults; the address is inside `x` anyway.
-            unsafe { _mm_prefetch::<_MM_HINT_T0>(p.wrapping_add(line)) }
-        }
-    }
-
-    #[inline(always)]
     fn entered(near: &Lanes, limit: &Lanes, mask: u32) -> u32 {
         // SAFETY: see the file's header.
         unsafe {

@@ -156,14 +156,7 @@ impl<N: WideNode> WideTree<N> {
                 // Start loading every child some lane will visit: the packet's lanes wait
                 // on one cache miss together, and the deferred ones arrive while it works.
                 for e in &stack[start..sp] {
-                    if is_leaf(e.node) {
-                        let (first, count) = leaf_blocks(e.node);
-                        for b in &self.blocks[first..first + count] {
-                            P::prefetch(b);
-                        }
-                    } else {
-                        P::prefetch(&self.nodes[e.node as usize]);
-                    }
+                    self.prefetch_child::<K>(e.node);
                 }
                 if sp > start {
                     sp -= 1;

@@ -193,7 +193,7 @@ impl<N: WideNode> WideTree<N> {
 
     /// Starts loading child `r`: its node, or its leaf's blocks.
     #[inline(always)]
-    fn prefetch_child<K: Kernel>(&self, r: ChildRef) {
+    pub(super) fn prefetch_child<K: Kernel>(&self, r: ChildRef) {
         if is_leaf(r) {
             let (first, count) = leaf_blocks(r);
             for b in &self.blocks[first..first + count] {
