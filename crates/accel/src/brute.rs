@@ -22,7 +22,7 @@ impl Brute {
     /// Copies the mesh's triangles.
     pub fn build(mesh: &TriangleMesh) -> Result<Self, BuildError> {
         mesh.validate()?;
-        let mut b = Self { blocks: Vec::new(), triangles: 0, kernel: KernelChoice::detect(false) };
+        let mut b = Self { blocks: Vec::new(), triangles: 0, kernel: KernelChoice::detect() };
         b.copy(mesh);
         Ok(b)
     }
@@ -35,7 +35,7 @@ impl Brute {
         self.triangles = tris.len();
     }
 
-    /// The block kernel it tests with (`scalar` or `avx2`).
+    /// The block kernel it tests with (`scalar`, `avx2` or `avx512`).
     pub fn kernel(&self) -> &'static str {
         self.kernel.name()
     }

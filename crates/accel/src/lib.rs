@@ -41,8 +41,8 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 #![deny(missing_docs)]
-// Everything here is plain safe Rust, except the wide BVH's AVX2 kernels (wbvh/kernel_avx2.rs,
-// wbvh/packet_avx2.rs, and the `#[target_feature]` entry points in wbvh/traverse.rs,
+// Everything here is plain safe Rust, except the wide BVH's SIMD kernels (wbvh/kernel_avx2.rs,
+// wbvh/kernel_avx512.rs, wbvh/packet_avx2.rs, and the `#[target_feature]` entry points in wbvh/traverse.rs,
 // wbvh/packet_traverse.rs and wbvh/scan.rs), which allow `unsafe_code` item by item with
 // the reason beside it.
 #![deny(unsafe_code)]

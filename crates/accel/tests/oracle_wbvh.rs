@@ -1,5 +1,5 @@
 //! The wide BVH against brute force beyond oracle.rs (which checks every preset at the
-//! default width and kernel): both widths × both kernels on the standard bunny and dragon
+//! default width and kernel): both widths × every kernel this CPU runs on the standard bunny and dragon
 //! sets, degenerate scenes, tiny meshes (one-leaf roots, padded blocks), refit.
 //!
 //! Each variant reuses the one brute-force answer of its ray set (support's on-disk
@@ -8,13 +8,18 @@
 
 mod support;
 
+use dynray_accel::wbvh::KernelRequest;
 use dynray_accel::{Accel, AccelKind, AccelSpec, BatchQuery, Wbvh, WbvhParams};
 use dynray_geom::{Ray, TriangleMesh, Vec3};
 use support::degenerate::{coplanar_sheet, million_to_one_strip, rays_at};
 use support::*;
 
-/// Every width and kernel, as `--accel` spells them.
-const VARIANTS: [&str; 4] = ["bvh:width=4", "bvh:width=8", "bvh:width=4,kernel=scalar", "bvh:width=8,kernel=scalar"];
+/// Every width and every kernel this CPU runs, as `--accel` spells them.
+fn variants() -> Vec<String> {
+    let kernels = KernelRequest::runnable();
+    assert!(kernels.contains(&KernelRequest::Scalar));
+    [4, 8].iter().flat_map(|w| kernels.iter().map(move |k| format!("bvh:width={w},kernel={}", k.name()))).collect()
+}
 
 fn build(spec: &str, mesh: &TriangleMesh) -> Box<dyn Accel> {
     let spec: AccelSpec = spec.parse().unwrap();
@@ -25,8 +30,8 @@ fn build(spec: &str, mesh: &TriangleMesh) -> Box<dyn Accel> {
 }
 
 fn check_variants(mesh: &TriangleMesh, rays: &[Ray], label: &str) {
-    for v in VARIANTS {
-        let a = build(v, mesh);
+    for v in variants() {
+        let a = build(&v, mesh);
         assert_matches_oracle(a.as_ref(), mesh, rays, &format!("{label} ({v}, kernel {})", kernel_of(a.as_ref())));
     }
 }
@@ -48,14 +53,24 @@ fn every_width_and_kernel_matches_brute_on_the_dragon() {
 }
 
 #[test]
-fn the_scalar_kernel_is_what_kernel_scalar_asks_for() {
+fn each_kernel_is_what_kernel_asks_for() {
     let mesh = bunny();
     let scalar = build("bvh:kernel=scalar", &mesh);
     assert_eq!(kernel_of(scalar.as_ref()), "scalar");
-    // Without the environment override, `auto` takes AVX2 where the CPU has it.
-    #[cfg(target_arch = "x86_64")]
-    if std::env::var_os(dynray_accel::wbvh::FORCE_SCALAR_ENV).is_none() && std::arch::is_x86_feature_detected!("avx2") {
-        assert_eq!(kernel_of(build("bvh", &mesh).as_ref()), "avx2");
+    // Each named kernel is the one used; without the environment override, `auto` takes
+    // the widest this CPU runs.
+    let runnable = KernelRequest::runnable();
+    for k in &runnable {
+        assert_eq!(kernel_of(build(&format!("bvh:kernel={}", k.name()), &mesh).as_ref()), k.name());
+    }
+    if std::env::var_os(dynray_accel::wbvh::FORCE_SCALAR_ENV).is_none() {
+        assert_eq!(kernel_of(build("bvh", &mesh).as_ref()), runnable.last().unwrap().name());
+    }
+    // A kernel the CPU lacks is refused by name, not silently replaced.
+    for k in [KernelRequest::Avx2, KernelRequest::Avx512].into_iter().filter(|k| !runnable.contains(k)) {
+        let spec: AccelSpec = format!("bvh:kernel={}", k.name()).parse().unwrap();
+        let e = spec.build(&mesh, None).err().expect("a kernel this CPU lacks must be refused").to_string();
+        assert!(e.contains("kernel") && e.contains(k.name()), "{e}");
     }
 }
 
@@ -126,8 +141,8 @@ fn identical_triangles_tie_to_the_lowest_index() {
     let rays: Vec<Ray> = (0..16)
         .map(|i| Ray::new(Vec3::new(0.05 * i as f32, 0.2, 1.0 + i as f32), Vec3::new(0.01, 0.0, -1.0)))
         .collect();
-    for v in VARIANTS {
-        let a = build(v, &mesh);
+    for v in variants() {
+        let a = build(&v, &mesh);
         // The first rays hit (the later ones pass beside the triangle).
         assert!(rays[..8].iter().all(|r| a.intersect(r).prim == 0), "{v}");
         assert_matches_oracle(a.as_ref(), &mesh, &rays, &format!("10k copies ({v})"));

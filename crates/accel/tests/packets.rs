@@ -1,15 +1,16 @@
 //! 8-ray packets through the wide BVH (`Wbvh::intersect_packet`,
 //! `Accel::intersect_coherent_into`) against its single rays, bit for bit (triangle, `t`,
-//! `u`, `v`), at both widths with both kernels: on the bunny and dragon oracle sets (each
+//! `u`, `v`), at both widths with every kernel: on the bunny and dragon oracle sets (each
 //! group of 8 rays given its first ray's origin, so lanes mix every direction and
 //! interval of the set), on camera packets checked against brute force as well, and on
 //! adversarial packets (mixed signs, zero components, origins on box planes and on
 //! vertices, empty, zero-length and NaN intervals, NaN directions, partial packets).
 //!
-//! CI's `DYNRAY_FORCE_SCALAR=1` run sends the `scalar: false` builds to the scalar kernel.
+//! Every kernel this CPU runs is named explicitly (`KernelRequest::runnable`).
 
 mod support;
 
+use dynray_accel::wbvh::KernelRequest;
 use dynray_accel::{Accel, BatchQuery, Coherent, Wbvh, WbvhParams};
 use dynray_geom::{Hit, Ray, TriangleMesh, Vec3};
 use rand::{rngs::SmallRng, Rng, SeedableRng};
@@ -19,8 +20,8 @@ use support::*;
 fn variants(mesh: &TriangleMesh) -> Vec<(String, Wbvh)> {
     let mut out = Vec::new();
     for width in [4, 8] {
-        for scalar in [false, true] {
-            let w = Wbvh::build(mesh, &WbvhParams { width, scalar, ..WbvhParams::default() }).unwrap();
+        for kernel in KernelRequest::runnable() {
+            let w = Wbvh::build(mesh, &WbvhParams { width, kernel, ..WbvhParams::default() }).unwrap();
             out.push((format!("width {width}, kernel {}", w.kernel()), w));
         }
     }

@@ -6,6 +6,7 @@
 
 use super::block::{TriBlock, LANES, PAD_ID};
 use super::node::WideNode;
+use super::traverse::Entry;
 use dynray_geom::{Hit, PreparedRay, Ray, SLAB_MARGIN};
 
 /// What the box test needs of a ray: origin and `1 / dir` (as `PreparedRay::inv_dir`).
@@ -51,6 +52,45 @@ pub trait Kernel {
 
     /// True when a triangle of the block is hit within `[tmin, tmax]`.
     fn any(b: &TriBlock, r: &PreparedRay) -> bool;
+
+    /// [`Kernel::closest`] over a leaf's blocks (a kernel may test several at once).
+    #[inline(always)]
+    fn closest_leaf(blocks: &[TriBlock], r: &PreparedRay, best: &mut Hit) {
+        for b in blocks {
+            Self::closest(b, r, best);
+        }
+    }
+
+    /// [`Kernel::any`] over a leaf's blocks.
+    #[inline(always)]
+    fn any_leaf(blocks: &[TriBlock], r: &PreparedRay) -> bool {
+        blocks.iter().any(|b| Self::any(b, r))
+    }
+
+    /// Pushes the children of `node` in `mask` (two or more), with their entry distances
+    /// from `near`, onto `stack` from `sp`, sorted so the nearest ends on top; returns the
+    /// new `sp`. A kernel may overwrite up to `W` entries from `sp` (`stack_need`'s slack).
+    /// Which of two equally near children comes first is the kernel's choice: the order
+    /// only steers the walk, never the answer.
+    #[inline(always)]
+    fn push_hits<N: WideNode>(node: &N, mask: u32, near: &Nears, stack: &mut [Entry], mut sp: usize) -> usize {
+        // Insertion sort: at most 8 entries, usually 2 or 3.
+        let start = sp;
+        let mut m = mask;
+        while m != 0 {
+            let i = m.trailing_zeros() as usize;
+            m &= m - 1;
+            let e = Entry { node: node.child(i), t: near[i] };
+            let mut j = sp;
+            while j > start && stack[j - 1].t < e.t {
+                stack[j] = stack[j - 1];
+                j -= 1;
+            }
+            stack[j] = e;
+            sp += 1;
+        }
+        sp
+    }
 
     /// Starts loading the cache lines of `x` (a child the traversal will visit later);
     /// no effect on any answer.
@@ -123,24 +163,87 @@ pub enum KernelChoice {
     /// AVX2 (x86-64 with AVX2 detected at run time; never chosen elsewhere).
     #[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
     Avx2,
+    /// AVX-512 F and VL, with AVX2 (detected at run time; never chosen elsewhere).
+    #[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
+    Avx512,
 }
 
-/// The environment variable that forces the scalar kernel (`DYNRAY_FORCE_SCALAR=1`), so a
-/// CI run on an AVX2 machine tests the fallback too.
+/// The kernel a build asks for (`kernel=` of `--accel bvh`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum KernelRequest {
+    /// The fastest this CPU runs (AVX-512, else AVX2, else scalar), or scalar when
+    /// [`FORCE_SCALAR_ENV`] is set.
+    #[default]
+    Auto,
+    /// The scalar kernel everywhere.
+    Scalar,
+    /// AVX2; a build fails on a CPU without it.
+    Avx2,
+    /// AVX-512; a build fails on a CPU without it.
+    Avx512,
+}
+
+impl KernelRequest {
+    /// Names as `kernel=` spells them, in the enum's order.
+    pub const NAMES: [&'static str; 4] = ["auto", "scalar", "avx2", "avx512"];
+
+    /// The request named `NAMES[i]`.
+    pub fn from_index(i: usize) -> Self {
+        [KernelRequest::Auto, KernelRequest::Scalar, KernelRequest::Avx2, KernelRequest::Avx512][i]
+    }
+
+    /// As `kernel=` spells it.
+    pub fn name(self) -> &'static str {
+        Self::NAMES[self as usize]
+    }
+
+    /// The named kernels this CPU runs (scalar everywhere), for the tests and benches that
+    /// cover each one.
+    pub fn runnable() -> Vec<KernelRequest> {
+        [KernelRequest::Scalar, KernelRequest::Avx2, KernelRequest::Avx512]
+            .into_iter()
+            .filter(|&k| KernelChoice::resolve(k).is_ok())
+            .collect()
+    }
+}
+
+/// The environment variable that forces the scalar kernel on `kernel=auto` builds
+/// (`DYNRAY_FORCE_SCALAR=1`), so a CI run on an AVX2 machine tests the fallback too.
 pub const FORCE_SCALAR_ENV: &str = "DYNRAY_FORCE_SCALAR";
 
 impl KernelChoice {
-    /// The fastest kernel this CPU runs, unless `scalar` or [`FORCE_SCALAR_ENV`] say otherwise.
-    pub fn detect(scalar: bool) -> Self {
+    /// The fastest kernel this CPU runs, unless [`FORCE_SCALAR_ENV`] says scalar.
+    pub fn detect() -> Self {
         let forced = std::env::var_os(FORCE_SCALAR_ENV).is_some_and(|v| v != "0" && !v.is_empty());
-        if scalar || forced {
+        if forced {
             return KernelChoice::Scalar;
         }
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
-            return KernelChoice::Avx2;
+        {
+            if super::kernel_avx512::available() {
+                return KernelChoice::Avx512;
+            }
+            if std::arch::is_x86_feature_detected!("avx2") {
+                return KernelChoice::Avx2;
+            }
         }
         KernelChoice::Scalar
+    }
+
+    /// The kernel `req` names, or why this CPU cannot run it.
+    pub fn resolve(req: KernelRequest) -> Result<Self, String> {
+        #[cfg(target_arch = "x86_64")]
+        let (avx2, avx512) = (std::arch::is_x86_feature_detected!("avx2"), super::kernel_avx512::available());
+        #[cfg(not(target_arch = "x86_64"))]
+        let (avx2, avx512) = (false, false);
+        match req {
+            KernelRequest::Auto => Ok(Self::detect()),
+            KernelRequest::Scalar => Ok(KernelChoice::Scalar),
+            KernelRequest::Avx2 if avx2 => Ok(KernelChoice::Avx2),
+            KernelRequest::Avx512 if avx512 => Ok(KernelChoice::Avx512),
+            KernelRequest::Avx2 => Err("this CPU has no AVX2 (use auto or scalar)".into()),
+            KernelRequest::Avx512 => Err("this CPU lacks AVX-512 F and VL (use auto, avx2 or scalar)".into()),
+        }
     }
 
     /// As `stats` prints it.
@@ -148,6 +251,7 @@ impl KernelChoice {
         match self {
             KernelChoice::Scalar => "scalar",
             KernelChoice::Avx2 => "avx2",
+            KernelChoice::Avx512 => "avx512",
         }
     }
 }
@@ -205,9 +309,25 @@ mod tests {
             let mut blocks = Vec::new();
             TriBlock::pack(&tris, &ids, &mut blocks);
             for _ in 0..4 {
-                check(&blocks[0], &tris, &ids, &ray(&mut rng, &shared));
+                let ray = ray(&mut rng, &shared);
+                check(&blocks[0], &tris, &ids, &ray);
+                for pinned in pinned_to_hit(&tris, &ids, &ray) {
+                    check(&blocks[0], &tris, &ids, &pinned);
+                }
             }
         }
+    }
+
+    /// `ray` with its interval shrunk to the closest hit's `t` at one end or both (none
+    /// when it misses): the bounds of `tmin <= t <= tmax` are then met with equality,
+    /// which random intervals almost never do.
+    fn pinned_to_hit(tris: &[Triangle], ids: &[u32], ray: &Ray) -> Vec<Ray> {
+        let h = spec_closest(tris, ids, &PreparedRay::new(ray), Hit::MISS);
+        if !h.is_hit() {
+            return Vec::new();
+        }
+        let at = |tmin, tmax| Ray::with_interval(ray.origin, ray.dir, tmin, tmax);
+        vec![at(h.t, h.t), at(h.t, ray.tmax), at(ray.tmin, h.t)]
     }
 
     /// The spec: `Hit::closest_of` over the triangles in order, starting from `start`.
@@ -267,6 +387,97 @@ mod tests {
         assert!(hits > 10_000, "{hits} hits");
     }
 
+    /// Leaves of 1..=8 blocks (the AVX-512 kernel tests blocks in pairs, the last one of
+    /// an odd count alone) through `closest_leaf` and `any_leaf`, against the scalar test
+    /// over the leaf's triangles.
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn avx512_leaves_are_bit_identical_to_the_scalar_test() {
+        use super::super::kernel_avx512::{available, Avx512};
+        if !available() {
+            eprintln!("skipped: this CPU lacks AVX-512 F and VL");
+            return;
+        }
+        let mut rng = SmallRng::seed_from_u64(43);
+        let shared: Vec<Vec3> = (0..6)
+            .map(|_| Vec3::new(rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0)))
+            .chain([Vec3::ZERO, Vec3::X, Vec3::Y])
+            .collect();
+        let mut hits = 0;
+        for i in 0..20_000 {
+            // 1..=32 triangles: every block count, full and padded last blocks.
+            let n = 1 + i % 32;
+            let mut tris: Vec<Triangle> = (0..n).map(|_| adversarial_triangle(&mut rng, &shared)).collect();
+            if i % 5 == 0 && n > 4 {
+                // A tie across the two blocks of a pair: the lower id must win.
+                tris[n - 1] = tris[0];
+            }
+            let ids: Vec<u32> = (0..n as u32).map(|k| [k * 3, 1000 - k, 7 + k][i % 3]).collect();
+            let mut blocks = Vec::new();
+            TriBlock::pack(&tris, &ids, &mut blocks);
+            let first = ray(&mut rng, &shared);
+            for ray in std::iter::once(first).chain(pinned_to_hit(&tris, &ids, &first)) {
+                let r = PreparedRay::new(&ray);
+                for start in starts(&ray) {
+                    let got = Avx512::closest_leaf_checked(&blocks, &r, start);
+                    let want = spec_closest(&tris, &ids, &r, start);
+                    assert!(same(&got, &want), "{n} triangles, {ray:?}: {got:?} vs {want:?}");
+                    hits += (want.prim != start.prim) as u32;
+                }
+                let any = tris.iter().any(|t| t.intersect(&r, ray.tmax).is_some());
+                assert_eq!(Avx512::any_leaf_checked(&blocks, &r), any, "{n} triangles, {ray:?}");
+            }
+        }
+        assert!(hits > 10_000, "{hits} hits");
+    }
+
+    /// The AVX-512 sorting network pushes what the insertion sort pushes: the same entries
+    /// (the same multiset), the same count, nearest on top, entries below `sp` untouched;
+    /// on distances with ties, ±0, ±∞ and every mask of two or more lanes.
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn avx512_push_hits_sorts_as_the_insertion_sort() {
+        use super::super::kernel_avx512::{available, Avx512};
+        if !available() {
+            eprintln!("skipped: this CPU lacks AVX-512 F and VL");
+            return;
+        }
+        let mut rng = SmallRng::seed_from_u64(47);
+        let pool = [0.0, -0.0, 1.0, 1.0, 2.5, -3.0, f32::INFINITY, f32::NEG_INFINITY, 1e-30, 7.0];
+        let mut node = Node8::empty();
+        for i in 0..8 {
+            node.push(100 + i, &Aabb::new(Vec3::ZERO, Vec3::ONE));
+        }
+        for round in 0..20_000 {
+            let mask = rng.gen_range(0u32..256);
+            if mask.count_ones() < 2 {
+                continue;
+            }
+            let near: Nears = std::array::from_fn(|_| {
+                if round % 2 == 0 {
+                    pool[rng.gen_range(0..pool.len())]
+                } else {
+                    rng.gen_range(-5.0..5.0)
+                }
+            });
+            let sp = rng.gen_range(0..5);
+            let below: Vec<Entry> = (0..sp).map(|k| Entry { node: k as u32, t: k as f32 }).collect();
+            let (mut a, mut b) = (vec![Entry::default(); 24], vec![Entry::default(); 24]);
+            a[..sp].copy_from_slice(&below);
+            b[..sp].copy_from_slice(&below);
+            let na = Scalar::push_hits(&node, mask, &near, &mut a, sp);
+            let nb = Avx512::push_hits_checked(&node, mask, &near, &mut b, sp);
+            assert_eq!(na, nb, "{mask:#b} {near:?}");
+            assert_eq!(&b[..sp], &below[..], "entries below sp changed");
+            let key = |e: &Entry| (e.node, e.t.to_bits());
+            let (mut sa, mut sb) = (a[sp..na].to_vec(), b[sp..nb].to_vec());
+            assert!(sb.windows(2).all(|w| w[0].t >= w[1].t), "not farthest first: {sb:?}");
+            sa.sort_by_key(key);
+            sb.sort_by_key(key);
+            assert_eq!(sa, sb, "{mask:#b} {near:?}");
+        }
+    }
+
     #[test]
     fn pad_lanes_never_hit() {
         let mut rng = SmallRng::seed_from_u64(3);
@@ -284,6 +495,13 @@ mod tests {
                 use super::super::kernel_avx2::Avx2;
                 assert!(!Avx2::any_checked(&pad, &r));
                 assert!(!Avx2::closest_checked(&pad, &r, Hit::MISS).is_hit());
+            }
+            #[cfg(target_arch = "x86_64")]
+            if super::super::kernel_avx512::available() {
+                use super::super::kernel_avx512::Avx512;
+                let pair = [pad, pad];
+                assert!(!Avx512::any_leaf_checked(&pair, &r));
+                assert!(!Avx512::closest_leaf_checked(&pair, &r, Hit::MISS).is_hit());
             }
         }
     }
@@ -347,5 +565,17 @@ mod tests {
         }
         check_boxes::<Node4>(Avx2::boxes_checked);
         check_boxes::<Node8>(Avx2::boxes_checked);
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn avx512_box_test_matches_aabb_clip() {
+        use super::super::kernel_avx512::{available, Avx512};
+        if !available() {
+            eprintln!("skipped: this CPU lacks AVX-512 F and VL");
+            return;
+        }
+        check_boxes::<Node4>(Avx512::boxes_checked);
+        check_boxes::<Node8>(Avx512::boxes_checked);
     }
 }

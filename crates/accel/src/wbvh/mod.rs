@@ -4,7 +4,7 @@
 //!
 //! Files: [`params`] (presets), [`node`] (node layout and child references), `block.rs`
 //! (leaf blocks and their padding), `collapse.rs` (binary → wide), `kernel.rs` (the
-//! scalar specification and kernel choice), `kernel_avx2.rs` (the AVX2 kernel),
+//! scalar specification and kernel choice), `kernel_avx2.rs` and `kernel_avx512.rs` (the AVX2 and AVX-512 kernels),
 //! `traverse.rs`, `packet.rs`, `packet_avx2.rs` and `packet_traverse.rs` (8-ray packets
 //! for coherent rays),
 //! `refit.rs`, `validate.rs`.
@@ -17,6 +17,8 @@ mod collapse;
 mod kernel;
 #[cfg(target_arch = "x86_64")]
 mod kernel_avx2;
+#[cfg(target_arch = "x86_64")]
+mod kernel_avx512;
 pub mod node;
 mod packet;
 #[cfg(target_arch = "x86_64")]
@@ -31,7 +33,7 @@ mod traverse;
 mod validate;
 
 pub use block::TriBlock;
-pub use kernel::FORCE_SCALAR_ENV;
+pub use kernel::{KernelRequest, FORCE_SCALAR_ENV};
 pub use node::{Node4, Node8, WideNode};
 pub use packet::PACKET;
 pub use params::WbvhParams;
@@ -108,7 +110,11 @@ impl Wbvh {
         params.validate()?;
         let shift = if params.block_cost { 2 } else { 0 };
         let (bin, ids) = Bvh::build_block_cost_nodes(mesh, &params.bvh, shift)?;
-        let kernel = KernelChoice::detect(params.scalar);
+        let kernel = KernelChoice::resolve(params.kernel).map_err(|message| BuildError::Param {
+            structure: "bvh",
+            name: "kernel",
+            message: format!("{}: {message}", params.kernel.name()),
+        })?;
         let tree = match params.width {
             4 => Tree::W4(WideTree::collapse(&bin, &ids, mesh, kernel)?),
             _ => Tree::W8(WideTree::collapse(&bin, &ids, mesh, kernel)?),
@@ -126,7 +132,7 @@ impl Wbvh {
         &self.params
     }
 
-    /// The triangle kernel in use: `"avx2"` or `"scalar"`.
+    /// The kernel in use: `"avx512"`, `"avx2"` or `"scalar"`.
     pub fn kernel(&self) -> &'static str {
         with_tree!(self, t => t.kernel.name())
     }

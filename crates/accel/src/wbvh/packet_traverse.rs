@@ -50,9 +50,12 @@ impl<N: WideNode> WideTree<N> {
     pub(super) fn closest_packet(&self, rays: &[Ray], p: &Packet, hits: &mut [Hit], s: &mut PacketScratch) {
         assert!(s.stack.len() >= self.stack_need, "packet scratch made for another tree");
         #[cfg(target_arch = "x86_64")]
-        if self.kernel == super::kernel::KernelChoice::Avx2 {
-            // SAFETY: `KernelChoice::Avx2` is only chosen when AVX2 was detected.
-            return unsafe { self.closest_packet_avx2(rays, p, hits, s) };
+        match self.kernel {
+            // SAFETY: `KernelChoice::Avx512` is only chosen when AVX2, AVX-512 F and VL
+            // were detected, `Avx2` when AVX2 was.
+            super::kernel::KernelChoice::Avx512 => return unsafe { self.closest_packet_avx512(rays, p, hits, s) },
+            super::kernel::KernelChoice::Avx2 => return unsafe { self.closest_packet_avx2(rays, p, hits, s) },
+            super::kernel::KernelChoice::Scalar => {}
         }
         self.closest_packet_ordered::<Scalar, Scalar>(rays, p, hits, s)
     }
@@ -63,6 +66,18 @@ impl<N: WideNode> WideTree<N> {
     unsafe fn closest_packet_avx2(&self, rays: &[Ray], p: &Packet, hits: &mut [Hit], s: &mut PacketScratch) {
         use super::kernel_avx2::Avx2;
         self.closest_packet_ordered::<Avx2, Avx2>(rays, p, hits, s)
+    }
+
+    /// The AVX2 packet tests with the AVX-512 single-ray kernel (leaf blocks in pairs, lanes
+    /// that finish alone): the packet box tests gain nothing from 512-bit registers, whose
+    /// 8 f32 lanes are already one AVX2 register.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,avx512f,avx512vl")]
+    #[allow(unsafe_code)]
+    unsafe fn closest_packet_avx512(&self, rays: &[Ray], p: &Packet, hits: &mut [Hit], s: &mut PacketScratch) {
+        use super::kernel_avx2::Avx2;
+        use super::kernel_avx512::Avx512;
+        self.closest_packet_ordered::<Avx512, Avx2>(rays, p, hits, s)
     }
 
     /// The traversal for `p`, with the lane test of [`PacketKernel::lanes_ordered`] where
@@ -112,11 +127,10 @@ impl<N: WideNode> WideTree<N> {
         'walk: loop {
             if is_leaf(cur) {
                 let (first, count) = leaf_blocks(cur);
-                for b in &self.blocks[first..first + count] {
-                    for l in lanes(mask) {
-                        let r = pr[l].get_or_insert_with(|| PreparedRay::new(&rays[l]));
-                        K::closest(b, r, &mut best[l]);
-                    }
+                let blocks = &self.blocks[first..first + count];
+                for l in lanes(mask) {
+                    let r = pr[l].get_or_insert_with(|| PreparedRay::new(&rays[l]));
+                    K::closest_leaf(blocks, r, &mut best[l]);
                 }
                 for l in lanes(mask) {
                     limit[l] = best[l].t.min(p.tmax[l]);

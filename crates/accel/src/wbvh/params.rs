@@ -1,6 +1,7 @@
 //! Build parameters of the wide BVH: the width, the binary builder's settings and cost
 //! model, and the kernel, with presets.
 
+use super::kernel::KernelRequest;
 use crate::structure_params::{out_of_range, unknown_key, value, ParamKey, StructureParams};
 use crate::{BuildError, BvhParams};
 
@@ -16,9 +17,9 @@ pub struct WbvhParams {
     /// Cost leaves in blocks of 4 triangles (`⌈n/4⌉` tests, as the leaves are tested),
     /// Embree's block SAH; off costs `n`, as the binary BVH does.
     pub block_cost: bool,
-    /// Use the scalar kernel even where AVX2 is available (the fallback's tests; the
-    /// environment variable `DYNRAY_FORCE_SCALAR=1` does the same for every build).
-    pub scalar: bool,
+    /// The kernel: `Auto` (the fastest the CPU runs) or one named (the tests of each; a
+    /// build fails where the CPU lacks it). `DYNRAY_FORCE_SCALAR=1` sends `Auto` to scalar.
+    pub kernel: KernelRequest,
 }
 
 impl WbvhParams {
@@ -42,7 +43,7 @@ impl Default for WbvhParams {
             width: 8,
             bvh: BvhParams { bins: 16, leaf_size: 5, max_leaf_size: 16, traversal_cost: 1.0, intersection_cost: 1.0 },
             block_cost: true,
-            scalar: false,
+            kernel: KernelRequest::Auto,
         }
     }
 }
@@ -57,7 +58,7 @@ impl StructureParams for WbvhParams {
         ParamKey { name: "block_cost", doc: "SAH leaf cost in 4-triangle blocks, on/off (default on)" },
         ParamKey { name: "traversal_cost", doc: "SAH K_T, (0, 1000] (default 1)" },
         ParamKey { name: "intersection_cost", doc: "SAH K_I, (0, 1000] (default 1)" },
-        ParamKey { name: "kernel", doc: "auto (AVX2 where present) or scalar (default auto)" },
+        ParamKey { name: "kernel", doc: "auto (the fastest present), avx512, avx2 or scalar (default auto)" },
     ];
 
     fn presets() -> Vec<(&'static str, Self)> {
@@ -74,7 +75,10 @@ impl StructureParams for WbvhParams {
             "block_cost" => self.block_cost = value::bool(s, key, v)?,
             "traversal_cost" => self.bvh.traversal_cost = value::f32(s, key, v)?,
             "intersection_cost" => self.bvh.intersection_cost = value::f32(s, key, v)?,
-            "kernel" => self.scalar = value::choice(s, key, v, &["auto", "scalar"], "auto or scalar")? == 1,
+            "kernel" => {
+                let i = value::choice(s, key, v, &KernelRequest::NAMES, "auto, avx512, avx2 or scalar")?;
+                self.kernel = KernelRequest::from_index(i);
+            }
             _ => return Err(unknown_key::<Self>(key)),
         }
         Ok(())
@@ -132,7 +136,13 @@ mod tests {
     fn keys_set_their_fields() {
         let pairs = |s: &[(&str, &str)]| s.iter().map(|(k, v)| (k.to_string(), v.to_string())).collect::<Vec<_>>();
         let p = WbvhParams::from_pairs(&pairs(&[("width", "4"), ("kernel", "scalar"), ("block_cost", "off")])).unwrap();
-        assert_eq!((p.width, p.scalar, p.block_cost), (4, true, false));
+        assert_eq!((p.width, p.kernel, p.block_cost), (4, KernelRequest::Scalar, false));
+        for (name, k) in
+            [("avx512", KernelRequest::Avx512), ("avx2", KernelRequest::Avx2), ("auto", KernelRequest::Auto)]
+        {
+            assert_eq!(WbvhParams::from_pairs(&pairs(&[("kernel", name)])).unwrap().kernel, k);
+            assert_eq!(k.name(), name);
+        }
         assert!(WbvhParams::from_pairs(&pairs(&[("kernel", "sse")])).is_err());
     }
 }

@@ -1,7 +1,7 @@
 //! Every block of a list in order, through the wide BVH's block kernels: brute force's
 //! loop ([`crate::Brute`] keeps the mesh's triangles as 4-triangle blocks in index
-//! order). The scalar kernel is `Triangle::intersect` lane by lane and the AVX2 one is
-//! held to its bits (kernel.rs's tests), so brute force stays the specification while
+//! order). The scalar kernel is `Triangle::intersect` lane by lane and the AVX2 and AVX-512
+//! ones are held to its bits (kernel.rs's tests), so brute force stays the specification while
 //! testing four triangles per step.
 
 use super::kernel::{Kernel, KernelChoice, Scalar};
@@ -14,9 +14,12 @@ use dynray_geom::{Hit, PreparedRay};
 #[allow(unsafe_code)]
 pub fn closest(blocks: &[TriBlock], r: &PreparedRay, kernel: KernelChoice) -> Hit {
     #[cfg(target_arch = "x86_64")]
-    if kernel == KernelChoice::Avx2 {
-        // SAFETY: `KernelChoice::Avx2` is only chosen when AVX2 was detected.
-        return unsafe { closest_avx2(blocks, r) };
+    match kernel {
+        // SAFETY: `KernelChoice::Avx512` is only chosen when AVX2, AVX-512 F and VL were
+        // detected, `Avx2` when AVX2 was.
+        KernelChoice::Avx512 => return unsafe { closest_avx512(blocks, r) },
+        KernelChoice::Avx2 => return unsafe { closest_avx2(blocks, r) },
+        KernelChoice::Scalar => {}
     }
     let _ = kernel;
     closest_with::<Scalar>(blocks, r)
@@ -27,9 +30,11 @@ pub fn closest(blocks: &[TriBlock], r: &PreparedRay, kernel: KernelChoice) -> Hi
 #[allow(unsafe_code)]
 pub fn any(blocks: &[TriBlock], r: &PreparedRay, kernel: KernelChoice) -> bool {
     #[cfg(target_arch = "x86_64")]
-    if kernel == KernelChoice::Avx2 {
+    match kernel {
         // SAFETY: as in `closest`.
-        return unsafe { any_avx2(blocks, r) };
+        KernelChoice::Avx512 => return unsafe { any_avx512(blocks, r) },
+        KernelChoice::Avx2 => return unsafe { any_avx2(blocks, r) },
+        KernelChoice::Scalar => {}
     }
     let _ = kernel;
     blocks.iter().any(|b| Scalar::any(b, r))
@@ -38,9 +43,7 @@ pub fn any(blocks: &[TriBlock], r: &PreparedRay, kernel: KernelChoice) -> bool {
 #[inline(always)]
 fn closest_with<K: Kernel>(blocks: &[TriBlock], r: &PreparedRay) -> Hit {
     let mut best = Hit::MISS;
-    for b in blocks {
-        K::closest(b, r, &mut best);
-    }
+    K::closest_leaf(blocks, r, &mut best);
     best
 }
 
@@ -57,4 +60,19 @@ unsafe fn closest_avx2(blocks: &[TriBlock], r: &PreparedRay) -> Hit {
 unsafe fn any_avx2(blocks: &[TriBlock], r: &PreparedRay) -> bool {
     use super::kernel_avx2::Avx2;
     blocks.iter().any(|b| Avx2::any(b, r))
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,avx512f,avx512vl")]
+#[allow(unsafe_code)]
+unsafe fn closest_avx512(blocks: &[TriBlock], r: &PreparedRay) -> Hit {
+    closest_with::<super::kernel_avx512::Avx512>(blocks, r)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,avx512f,avx512vl")]
+#[allow(unsafe_code)]
+unsafe fn any_avx512(blocks: &[TriBlock], r: &PreparedRay) -> bool {
+    use super::kernel_avx512::Avx512;
+    Avx512::any_leaf(blocks, r)
 }

@@ -2,8 +2,8 @@
 //! children, hit children visited nearest first, boxes culled against the best `t`.
 //!
 //! The traversal is written once, generic over the node width and the [`Kernel`]; the AVX2
-//! entry points below are the same code compiled with `#[target_feature(enable = "avx2")]`,
-//! so the kernel's intrinsics and the traversal loop inline into one function.
+//! and AVX-512 entry points below are the same code compiled with `#[target_feature]`, so
+//! the kernel's intrinsics and the traversal loop inline into one function.
 
 #[cfg(target_arch = "x86_64")]
 use super::kernel::KernelChoice;
@@ -22,16 +22,19 @@ pub(super) const STACK_CAPACITY: usize = 1024;
 
 /// Entries the traversal stack can need for a tree with `levels` interior levels: each
 /// interior node visited pushes its hit children (at most `W`) and pops the nearest, so at
-/// most `W - 1` entries per level stay, plus `W` for the node being expanded.
+/// most `W - 1` entries per level stay, plus `W` for the node being expanded, plus `W` of
+/// slack that [`Kernel::push_hits`] may write above the entries it pushes (one vector store
+/// of all `W` lanes).
 pub(super) fn stack_need(levels: u32, width: usize) -> usize {
-    levels as usize * (width - 1) + 1
+    levels as usize * (width - 1) + 1 + width
 }
 
 /// A deferred child and its entry distance when it was pushed.
-#[derive(Clone, Copy, Default)]
+#[repr(C)]
+#[derive(Clone, Copy, Default, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub(super) struct Entry {
-    node: ChildRef,
-    t: f32,
+    pub node: ChildRef,
+    pub t: f32,
 }
 
 /// Where a single-ray walk starts and what it tests with: the subtree, the ray, its box
@@ -50,9 +53,12 @@ impl<N: WideNode> WideTree<N> {
     #[allow(unsafe_code)]
     pub(super) fn closest<C: Counter>(&self, ray: &Ray, c: &mut C) -> Hit {
         #[cfg(target_arch = "x86_64")]
-        if self.kernel == KernelChoice::Avx2 {
-            // SAFETY: `KernelChoice::Avx2` is only chosen when AVX2 was detected.
-            return unsafe { self.closest_avx2(ray, c) };
+        match self.kernel {
+            // SAFETY: `KernelChoice::Avx512` is only chosen when AVX2, AVX-512 F and VL
+            // were detected, `Avx2` when AVX2 was.
+            KernelChoice::Avx512 => return unsafe { self.closest_avx512(ray, c) },
+            KernelChoice::Avx2 => return unsafe { self.closest_avx2(ray, c) },
+            KernelChoice::Scalar => {}
         }
         self.closest_sized::<Scalar, C>(ray, c)
     }
@@ -62,9 +68,11 @@ impl<N: WideNode> WideTree<N> {
     #[allow(unsafe_code)]
     pub(super) fn any<C: Counter>(&self, ray: &Ray, c: &mut C) -> bool {
         #[cfg(target_arch = "x86_64")]
-        if self.kernel == KernelChoice::Avx2 {
+        match self.kernel {
             // SAFETY: as in `closest`.
-            return unsafe { self.any_avx2(ray, c) };
+            KernelChoice::Avx512 => return unsafe { self.any_avx512(ray, c) },
+            KernelChoice::Avx2 => return unsafe { self.any_avx2(ray, c) },
+            KernelChoice::Scalar => {}
         }
         self.any_sized::<Scalar, C>(ray, c)
     }
@@ -81,6 +89,20 @@ impl<N: WideNode> WideTree<N> {
     #[allow(unsafe_code)]
     unsafe fn any_avx2<C: Counter>(&self, ray: &Ray, c: &mut C) -> bool {
         self.any_sized::<super::kernel_avx2::Avx2, C>(ray, c)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,avx512f,avx512vl")]
+    #[allow(unsafe_code)]
+    unsafe fn closest_avx512<C: Counter>(&self, ray: &Ray, c: &mut C) -> Hit {
+        self.closest_sized::<super::kernel_avx512::Avx512, C>(ray, c)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,avx512f,avx512vl")]
+    #[allow(unsafe_code)]
+    unsafe fn any_avx512<C: Counter>(&self, ray: &Ray, c: &mut C) -> bool {
+        self.any_sized::<super::kernel_avx512::Avx512, C>(ray, c)
     }
 
     #[inline(always)]
@@ -136,9 +158,7 @@ impl<N: WideNode> WideTree<N> {
                 let pr = pr.get_or_insert_with(|| PreparedRay::new(ray));
                 let (first, count) = leaf_blocks(cur);
                 c.triangles(4 * count as u32);
-                for blk in &self.blocks[first..first + count] {
-                    K::closest(blk, pr, best);
-                }
+                K::closest_leaf(&self.blocks[first..first + count], pr, best);
             } else {
                 let node = &self.nodes[cur as usize];
                 c.node();
@@ -150,22 +170,9 @@ impl<N: WideNode> WideTree<N> {
                         cur = node.child(mask.trailing_zeros() as usize);
                         continue;
                     }
-                    // Push every hit child, sort the pushed run so the nearest is on top
-                    // (insertion sort: at most 8 entries), and descend into it.
+                    // Push every hit child, the nearest on top, and descend into it.
                     let start = sp;
-                    let mut m = mask;
-                    while m != 0 {
-                        let i = m.trailing_zeros() as usize;
-                        m &= m - 1;
-                        let e = Entry { node: node.child(i), t: near[i] };
-                        let mut j = sp;
-                        while j > start && stack[j - 1].t < e.t {
-                            stack[j] = stack[j - 1];
-                            j -= 1;
-                        }
-                        stack[j] = e;
-                        sp += 1;
-                    }
+                    sp = K::push_hits(node, mask, &near, stack, sp);
                     // The deferred children's first cache misses overlap the work on the
                     // nearest one (the traversal is bound by node and block loads).
                     for e in &stack[start..sp - 1] {
@@ -220,7 +227,7 @@ impl<N: WideNode> WideTree<N> {
                 let pr = pr.get_or_insert_with(|| PreparedRay::new(ray));
                 let (first, count) = leaf_blocks(cur);
                 c.triangles(4 * count as u32);
-                if self.blocks[first..first + count].iter().any(|b| K::any(b, pr)) {
+                if K::any_leaf(&self.blocks[first..first + count], pr) {
                     return true;
                 }
             } else {

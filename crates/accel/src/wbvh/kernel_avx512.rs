@@ -1,0 +1,356 @@
+//! The AVX-512 kernel: the f64 watertight test on two leaf blocks at once (8 triangles in
+//! one `__m512d`), one block with mask registers where a leaf has an odd count, and the
+//! box test of the AVX2 kernel with its compares written straight into mask registers
+//! (AVX-512 VL), so no `movemask` and no blend through a vector register.
+//!
+//! Bit-identical to [`super::kernel::Scalar`] for the reasons kernel_avx2.rs gives: every
+//! lane performs the scalar test's IEEE operations in its order (no FMA intrinsic; Rust
+//! never contracts), conversions round to nearest, compares are ordered (`_OQ`). The tests
+//! in kernel.rs hold it to the scalar kernel on the same adversarial inputs as AVX2.
+//!
+//! Safety: the functions here are `#[inline(always)]` bodies that only the
+//! `#[target_feature(enable = "avx2,avx512f,avx512vl")]` entry points (traverse.rs,
+//! packet_traverse.rs, scan.rs) inline, and those are only called when
+//! [`super::kernel::KernelChoice::Avx512`] was chosen, which needs AVX2, AVX-512 F and
+//! AVX-512 VL detected at run time. Loads go through `bytemuck::cast` of `[f32; N]` arrays,
+//! never raw pointers.
+#![allow(unsafe_code)]
+
+use super::block::TriBlock;
+use super::kernel::{BoxRay, Kernel, Nears};
+use super::kernel_avx2::Avx2;
+use super::node::WideNode;
+use super::traverse::Entry;
+use bytemuck::cast;
+use dynray_geom::{Hit, PreparedRay, SLAB_MARGIN};
+use std::arch::x86_64::*;
+
+/// The AVX-512 kernel.
+#[derive(Clone, Copy, Debug)]
+pub struct Avx512;
+
+/// The ray's triangle-test constants broadcast to 8 f64 lanes.
+struct Ray8 {
+    o: [__m512d; 3],
+    s: [__m512d; 3],
+    k: [usize; 3],
+}
+
+impl Ray8 {
+    #[inline(always)]
+    fn new(r: &PreparedRay) -> Self {
+        // SAFETY: see the file's header.
+        unsafe {
+            let (o, s) = (r.origin64, r.shear);
+            Ray8 {
+                o: [_mm512_set1_pd(o[0]), _mm512_set1_pd(o[1]), _mm512_set1_pd(o[2])],
+                s: [_mm512_set1_pd(s[0]), _mm512_set1_pd(s[1]), _mm512_set1_pd(s[2])],
+                k: r.k,
+            }
+        }
+    }
+}
+
+/// Vertex `vert` of the 8 lanes (block `a`'s 4, then block `b`'s), relative to the origin,
+/// in the ray's axis order: `p as f64 - o`.
+#[inline(always)]
+fn rel8(a: &TriBlock, b: &TriBlock, vert: usize, r: &Ray8) -> [__m512d; 3] {
+    // SAFETY: see the file's header.
+    unsafe {
+        [
+            _mm512_sub_pd(row(a, b, vert, r.k[0]), r.o[0]),
+            _mm512_sub_pd(row(a, b, vert, r.k[1]), r.o[1]),
+            _mm512_sub_pd(row(a, b, vert, r.k[2]), r.o[2]),
+        ]
+    }
+}
+
+/// Coordinate `axis` of vertex `vert` of the 8 lanes, widened to f64 (exact).
+#[inline(always)]
+fn row(a: &TriBlock, b: &TriBlock, vert: usize, axis: usize) -> __m512d {
+    // SAFETY: see the file's header.
+    unsafe {
+        let lo = cast::<[f32; 4], __m128>(a.v[vert][axis]);
+        let hi = cast::<[f32; 4], __m128>(b.v[vert][axis]);
+        _mm512_cvtps_pd(_mm256_set_m128(hi, lo))
+    }
+}
+
+// Helpers are `#[inline(always)]` functions, not closures: a closure is a function of its
+// own without the target features, which LLVM may leave out of line (kernel_avx2.rs).
+
+/// `x - s * z` (the shear into ray space).
+#[inline(always)]
+fn shear(x: __m512d, s: __m512d, z: __m512d) -> __m512d {
+    // SAFETY: see the file's header.
+    unsafe { _mm512_sub_pd(x, _mm512_mul_pd(s, z)) }
+}
+
+/// `p * q - r * s` (a 2-D edge function, in the scalar test's operand order).
+#[inline(always)]
+fn edge(p: __m512d, q: __m512d, r: __m512d, s: __m512d) -> __m512d {
+    // SAFETY: see the file's header.
+    unsafe { _mm512_sub_pd(_mm512_mul_pd(p, q), _mm512_mul_pd(r, s)) }
+}
+
+/// Lanes where `x < 0` (ordered: false on NaN, like Rust's `<`).
+#[inline(always)]
+fn negative(x: __m512d) -> __mmask8 {
+    // SAFETY: see the file's header.
+    unsafe { _mm512_cmp_pd_mask::<_CMP_LT_OQ>(x, _mm512_setzero_pd()) }
+}
+
+/// Lanes where `x > 0` (ordered).
+#[inline(always)]
+fn positive(x: __m512d) -> __mmask8 {
+    // SAFETY: see the file's header.
+    unsafe { _mm512_cmp_pd_mask::<_CMP_GT_OQ>(x, _mm512_setzero_pd()) }
+}
+
+/// Lanes that hit within `[tmin, tmax]`, with their `t`, `u`, `v`.
+struct Hits<const L: usize> {
+    mask: u32,
+    t: [f32; L],
+    u: [f32; L],
+    v: [f32; L],
+}
+
+/// The scalar test of `Triangle::intersect` on the 8 lanes of blocks `a` and `b`.
+#[inline(always)]
+fn pair_test(a: &TriBlock, b: &TriBlock, r: &PreparedRay, r8: &Ray8, tmax: f32) -> Option<Hits<8>> {
+    // SAFETY: see the file's header.
+    unsafe {
+        let [a0, a1, a2] = rel8(a, b, 0, r8);
+        let [b0, b1, b2] = rel8(a, b, 1, r8);
+        let [c0, c1, c2] = rel8(a, b, 2, r8);
+        let (ax, ay) = (shear(a0, r8.s[0], a2), shear(a1, r8.s[1], a2));
+        let (bx, by) = (shear(b0, r8.s[0], b2), shear(b1, r8.s[1], b2));
+        let (cx, cy) = (shear(c0, r8.s[0], c2), shear(c1, r8.s[1], c2));
+        let eu = edge(cx, by, cy, bx);
+        let ev = edge(ax, cy, ay, cx);
+        let ew = edge(bx, ay, by, ax);
+        let det = _mm512_add_pd(_mm512_add_pd(eu, ev), ew);
+        let reject = ((negative(eu) | negative(ev) | negative(ew)) & (positive(eu) | positive(ev) | positive(ew)))
+            | _mm512_cmp_pd_mask::<_CMP_EQ_OQ>(det, _mm512_setzero_pd());
+        // Most block pairs a ray reaches miss all 8 triangles: stop before the divide.
+        if reject == 0xFF {
+            return None;
+        }
+        let tt = _mm512_mul_pd(
+            _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(eu, a2), _mm512_mul_pd(ev, b2)), _mm512_mul_pd(ew, c2)),
+            _mm512_set1_pd(r.shear[2]),
+        );
+        let rcp = _mm512_div_pd(_mm512_set1_pd(1.0), det);
+        let t = _mm512_cvtpd_ps(_mm512_mul_pd(tt, rcp));
+        let inside = _mm256_cmp_ps_mask::<_CMP_GE_OQ>(t, _mm256_set1_ps(r.ray.tmin))
+            & _mm256_cmp_ps_mask::<_CMP_LE_OQ>(t, _mm256_set1_ps(tmax));
+        let mask = (inside & !reject) as u32;
+        if mask == 0 {
+            return None;
+        }
+        let u = _mm512_cvtpd_ps(_mm512_mul_pd(ev, rcp));
+        let v = _mm512_cvtpd_ps(_mm512_mul_pd(ew, rcp));
+        Some(Hits { mask, t: cast(t), u: cast(u), v: cast(v) })
+    }
+}
+
+/// Keeps in `best` the hits of `h` (lane `l` has mesh id `ids(l)`) closer than it.
+#[inline(always)]
+fn keep_closest<const L: usize>(h: &Hits<L>, ids: impl Fn(usize) -> u32, best: &mut Hit) {
+    let mut m = h.mask;
+    while m != 0 {
+        let l = m.trailing_zeros() as usize;
+        m &= m - 1;
+        // `is_closer` is a strict order on (t, id), so lane order does not matter.
+        if Hit::is_closer(h.t[l], ids(l), best) {
+            *best = Hit { t: h.t[l], u: h.u[l], v: h.v[l], prim: ids(l) };
+        }
+    }
+}
+
+impl Kernel for Avx512 {
+    #[inline(always)]
+    fn boxes<N: WideNode>(node: &N, r: &BoxRay, tmin: f32, limit: f32, near: &mut Nears) -> u32 {
+        let valid = (1u32 << node.count()) - 1;
+        if N::W != 8 {
+            // Four children fill half a register: the AVX2 body is as short.
+            return Avx2::boxes(node, r, tmin, limit, near);
+        }
+        // SAFETY: see the file's header.
+        unsafe {
+            let load = |s: &[f32]| cast::<[f32; 8], __m256>(s.try_into().expect("8 lanes"));
+            let (mut n, mut f) = (_mm256_set1_ps(f32::NEG_INFINITY), _mm256_set1_ps(f32::INFINITY));
+            for a in 0..3 {
+                let (o, inv) = (_mm256_set1_ps(r.org[a]), _mm256_set1_ps(r.inv[a]));
+                let (near_plane, far_plane) =
+                    if r.neg[a] { (node.hi(a), node.lo(a)) } else { (node.lo(a), node.hi(a)) };
+                let tn = _mm256_mul_ps(_mm256_sub_ps(load(near_plane), o), inv);
+                let tf = _mm256_mul_ps(_mm256_sub_ps(load(far_plane), o), inv);
+                // NaN-ignoring as in the AVX2 kernel: `maxps(x, n)` is `n` for a NaN `x`.
+                n = _mm256_max_ps(tn, n);
+                f = _mm256_min_ps(tf, f);
+            }
+            // Widen outwards: `x * (1 ∓ m)` by the sign of `x`, the factor picked by mask.
+            let zero = _mm256_setzero_ps();
+            let (lo_m, hi_m) = (_mm256_set1_ps(1.0 - SLAB_MARGIN), _mm256_set1_ps(1.0 + SLAB_MARGIN));
+            let n_pos = _mm256_cmp_ps_mask::<_CMP_GT_OQ>(n, zero);
+            let f_pos = _mm256_cmp_ps_mask::<_CMP_GT_OQ>(f, zero);
+            let n = _mm256_mul_ps(n, _mm256_mask_blend_ps(n_pos, hi_m, lo_m));
+            let f = _mm256_mul_ps(f, _mm256_mask_blend_ps(f_pos, lo_m, hi_m));
+            let n = _mm256_max_ps(_mm256_set1_ps(tmin), n);
+            let f = _mm256_min_ps(_mm256_set1_ps(limit), f);
+            *near = cast(n);
+            (_mm256_cmp_ps_mask::<_CMP_LE_OQ>(n, f) as u32) & valid
+        }
+    }
+
+    #[inline(always)]
+    fn closest(b: &TriBlock, r: &PreparedRay, best: &mut Hit) {
+        Avx2::closest(b, r, best)
+    }
+
+    #[inline(always)]
+    fn any(b: &TriBlock, r: &PreparedRay) -> bool {
+        Avx2::any(b, r)
+    }
+
+    /// Blocks two at a time (8 f64 lanes), the odd one through the 4-lane test.
+    #[inline(always)]
+    fn closest_leaf(blocks: &[TriBlock], r: &PreparedRay, best: &mut Hit) {
+        let r8 = Ray8::new(r);
+        let mut pairs = blocks.chunks_exact(2);
+        for p in &mut pairs {
+            let (a, b) = (&p[0], &p[1]);
+            if let Some(h) = pair_test(a, b, r, &r8, best.t.min(r.ray.tmax)) {
+                keep_closest(&h, |l| if l < 4 { a.ids[l] } else { b.ids[l - 4] }, best);
+            }
+        }
+        if let [last] = pairs.remainder() {
+            Avx2::closest(last, r, best);
+        }
+    }
+
+    #[inline(always)]
+    fn any_leaf(blocks: &[TriBlock], r: &PreparedRay) -> bool {
+        let r8 = Ray8::new(r);
+        let mut pairs = blocks.chunks_exact(2);
+        for p in &mut pairs {
+            if pair_test(&p[0], &p[1], r, &r8, r.ray.tmax).is_some() {
+                return true;
+            }
+        }
+        pairs.remainder().iter().any(|b| Avx2::any(b, r))
+    }
+
+    /// Eight children: a sorting network on all lanes instead of the insertion sort's
+    /// data-dependent branches, and the sorted run stored with two vector stores.
+    #[inline(always)]
+    fn push_hits<N: WideNode>(node: &N, mask: u32, near: &Nears, stack: &mut [Entry], sp: usize) -> usize {
+        if N::W != 8 {
+            return Avx2::push_hits(node, mask, near, stack, sp);
+        }
+        // SAFETY: see the file's header.
+        let sorted: [Entry; 8] = unsafe {
+            // Keys that order as the distances do (the sign-magnitude float made two's
+            // complement); lanes not hit get i32::MIN, below every distance's key (only a
+            // negative NaN maps there, and a hit lane's distance is never NaN).
+            let bits = _mm256_castps_si256(cast::<Nears, __m256>(*near));
+            let key = _mm256_xor_si256(bits, _mm256_srli_epi32::<1>(_mm256_srai_epi32::<31>(bits)));
+            let mut key = _mm256_mask_blend_epi32(mask as __mmask8, _mm256_set1_epi32(i32::MIN), key);
+            let children: [u32; 8] = node.children().try_into().expect("8 lanes");
+            let mut child = cast::<[u32; 8], __m256i>(children);
+            // A 19-comparator, 6-layer network, descending: the farthest first. Each
+            // layer pairs lanes (i < j), lane i keeps the larger key, lane j the smaller;
+            // `partner` maps each lane to its pair (itself when idle that layer).
+            const LAYERS: [([i32; 8], u8); 6] = [
+                ([2, 3, 0, 1, 6, 7, 4, 5], 0b0011_0011),
+                ([4, 5, 6, 7, 0, 1, 2, 3], 0b0000_1111),
+                ([1, 0, 3, 2, 5, 4, 7, 6], 0b0101_0101),
+                ([0, 1, 4, 5, 2, 3, 6, 7], 0b0000_1100),
+                ([0, 4, 2, 6, 1, 5, 3, 7], 0b0000_1010),
+                ([0, 2, 1, 4, 3, 6, 5, 7], 0b0010_1010),
+            ];
+            for (partner, keeps_max) in LAYERS {
+                let idx = cast::<[i32; 8], __m256i>(partner);
+                let (pk, pc) = (_mm256_permutevar8x32_epi32(key, idx), _mm256_permutevar8x32_epi32(child, idx));
+                // Take the partner's entry where it is strictly better for this lane's
+                // role; on a tie both keep their own, so no entry is lost or doubled.
+                let take =
+                    (_mm256_cmpgt_epi32_mask(pk, key) & keeps_max) | (_mm256_cmpgt_epi32_mask(key, pk) & !keeps_max);
+                key = _mm256_mask_blend_epi32(take, key, pk);
+                child = _mm256_mask_blend_epi32(take, child, pc);
+            }
+            // Back to distances, then interleave (child, t) pairs in stack order.
+            let t = _mm256_xor_si256(key, _mm256_srli_epi32::<1>(_mm256_srai_epi32::<31>(key)));
+            let (lo, hi) = (_mm256_unpacklo_epi32(child, t), _mm256_unpackhi_epi32(child, t));
+            let first = _mm256_permute2x128_si256::<0x20>(lo, hi);
+            let second = _mm256_permute2x128_si256::<0x31>(lo, hi);
+            cast::<[__m256i; 2], [Entry; 8]>([first, second])
+        };
+        stack[sp..sp + 8].copy_from_slice(&sorted);
+        sp + mask.count_ones() as usize
+    }
+
+    #[inline(always)]
+    fn prefetch<T>(x: &T) {
+        Avx2::prefetch(x)
+    }
+}
+
+/// Entry points for the tests, compiled with AVX-512 so the kernels inline as they do in
+/// traversal. Callers check [`available`] first.
+#[cfg(test)]
+impl Avx512 {
+    pub(super) fn closest_leaf_checked(blocks: &[TriBlock], r: &PreparedRay, start: Hit) -> Hit {
+        #[target_feature(enable = "avx2,avx512f,avx512vl")]
+        fn go(blocks: &[TriBlock], r: &PreparedRay, mut h: Hit) -> Hit {
+            Avx512::closest_leaf(blocks, r, &mut h);
+            h
+        }
+        assert!(available());
+        // SAFETY: the features were checked on the line above.
+        unsafe { go(blocks, r, start) }
+    }
+
+    pub(super) fn any_leaf_checked(blocks: &[TriBlock], r: &PreparedRay) -> bool {
+        #[target_feature(enable = "avx2,avx512f,avx512vl")]
+        fn go(blocks: &[TriBlock], r: &PreparedRay) -> bool {
+            Avx512::any_leaf(blocks, r)
+        }
+        assert!(available());
+        // SAFETY: the features were checked on the line above.
+        unsafe { go(blocks, r) }
+    }
+
+    pub(super) fn push_hits_checked<N: WideNode>(
+        node: &N,
+        mask: u32,
+        near: &Nears,
+        stack: &mut [Entry],
+        sp: usize,
+    ) -> usize {
+        #[target_feature(enable = "avx2,avx512f,avx512vl")]
+        fn go<N: WideNode>(node: &N, mask: u32, near: &Nears, stack: &mut [Entry], sp: usize) -> usize {
+            Avx512::push_hits(node, mask, near, stack, sp)
+        }
+        assert!(available());
+        // SAFETY: the features were checked on the line above.
+        unsafe { go(node, mask, near, stack, sp) }
+    }
+
+    pub(super) fn boxes_checked<N: WideNode>(node: &N, r: &BoxRay, tmin: f32, limit: f32, near: &mut Nears) -> u32 {
+        #[target_feature(enable = "avx2,avx512f,avx512vl")]
+        fn go<N: WideNode>(node: &N, r: &BoxRay, tmin: f32, limit: f32, near: &mut Nears) -> u32 {
+            Avx512::boxes(node, r, tmin, limit, near)
+        }
+        assert!(available());
+        // SAFETY: the features were checked on the line above.
+        unsafe { go(node, r, tmin, limit, near) }
+    }
+}
+
+/// True when this CPU runs the kernel: AVX2, AVX-512 F (the 512-bit f64 lanes) and
+/// AVX-512 VL (mask compares on 256-bit registers).
+pub fn available() -> bool {
+    is_x86_feature_detected!("avx2") && is_x86_feature_detected!("avx512f") && is_x86_feature_detected!("avx512vl")
+}
