@@ -38,7 +38,8 @@ pub(super) fn collapse<N: WideNode>(
         out: Collapsed { nodes: Vec::with_capacity(bin.len() / 4), blocks: Vec::new(), levels: 0 },
     };
     c.out.blocks.reserve(n / 3);
-    c.node(0, 1);
+    c.out.nodes.push(N::empty());
+    c.node(0, 0, 1);
     Ok(c.out)
 }
 
@@ -50,11 +51,13 @@ struct Collapser<'a, N, T> {
 }
 
 impl<N: WideNode, T: Fn(usize, u32) -> Triangle> Collapser<'_, N, T> {
-    /// Emits the wide node for binary node `b` at interior level `level` (root: 1) and
-    /// returns its index.
-    fn node(&mut self, b: usize, level: u32) -> u32 {
-        let idx = self.out.nodes.len();
-        self.out.nodes.push(N::empty());
+    /// Emits the wide node for binary node `b` at interior level `level` (root: 1) into the
+    /// slot `idx` (already pushed).
+    ///
+    /// Layout: a node's leaf children's blocks are emitted together, and its interior
+    /// children take adjacent slots, before any grandchild is emitted; so the children a
+    /// ray visits after one box test lie together in memory rather than a subtree apart.
+    fn node(&mut self, b: usize, idx: usize, level: u32) {
         self.out.levels = self.out.levels.max(level);
         let bin = self.bin;
         // A one-leaf tree (few triangles) is a root with a single leaf child.
@@ -77,6 +80,8 @@ impl<N: WideNode, T: Fn(usize, u32) -> Triangle> Collapser<'_, N, T> {
             kids[len] = l + 1;
             len += 1;
         }
+        let mut interior = [(0usize, 0usize); 8];
+        let mut n_interior = 0;
         for &k in &kids[..len] {
             let r = if bin[k].is_leaf() {
                 let (first, count) = (bin[k].index as usize, bin[k].count as usize);
@@ -90,10 +95,16 @@ impl<N: WideNode, T: Fn(usize, u32) -> Triangle> Collapser<'_, N, T> {
                 }
                 leaf_ref(start, self.out.blocks.len() as u32 - start)
             } else {
-                self.node(k, level + 1)
+                let slot = self.out.nodes.len();
+                self.out.nodes.push(N::empty());
+                interior[n_interior] = (k, slot);
+                n_interior += 1;
+                slot as u32
             };
             self.out.nodes[idx].push(r, &bin[k].bounds());
         }
-        idx as u32
+        for &(k, slot) in &interior[..n_interior] {
+            self.node(k, slot, level + 1);
+        }
     }
 }

@@ -60,7 +60,7 @@ enum Tree {
 /// The arrays of a `W`-wide tree.
 #[derive(Clone, Debug)]
 struct WideTree<N> {
-    /// Root first; a node's interior children come after it.
+    /// Root first; a node's interior children come after it, in adjacent slots.
     nodes: Vec<N>,
     /// Leaf blocks; a leaf's blocks are contiguous.
     blocks: Vec<TriBlock>,

@@ -28,7 +28,7 @@ impl<N: WideNode> WideTree<N> {
                 }
             }
         });
-        // Interior children sit after their parent (depth-first emission), so one reverse
+        // Interior children sit after their parent (collapse.rs emits them so), so one reverse
         // sweep sees every child node before its parent.
         for i in (0..self.nodes.len()).rev() {
             for lane in 0..self.nodes[i].count() {
