@@ -5,11 +5,16 @@
 //!
 //! Boxes are copied from the binary nodes unchanged, so every child box is exactly the
 //! union of what lies below it, as the binary tree's are.
+//!
+//! The walk itself only lays out nodes and block slots (a few bytes per block); the blocks
+//! are then filled in parallel, since reading each triangle from the mesh and writing 160
+//! bytes per block was most of the collapse's time and all of it on one thread.
 
 use super::block::{TriBlock, LANES};
 use super::node::{leaf_ref, WideNode, MAX_BLOCKS};
 use crate::{BuildError, BvhNode};
 use dynray_geom::Triangle;
+use rayon::prelude::*;
 
 /// A collapsed tree: nodes root first (children after parents), blocks in leaf order.
 pub(super) struct Collapsed<N> {
@@ -25,32 +30,42 @@ pub(super) struct Collapsed<N> {
 pub(super) fn collapse<N: WideNode>(
     bin: &[BvhNode],
     ids: &[u32],
-    tri: impl Fn(usize, u32) -> Triangle,
+    tri: impl Fn(usize, u32) -> Triangle + Sync,
 ) -> Result<Collapsed<N>, BuildError> {
     let n = ids.len();
     if n.div_ceil(4) + bin.len() > MAX_BLOCKS as usize {
         return Err(BuildError::Limit(format!("{n} triangles: a wide leaf reference addresses {MAX_BLOCKS} blocks")));
     }
-    let mut c = Collapser {
-        bin,
-        ids,
-        tri,
-        out: Collapsed { nodes: Vec::with_capacity(bin.len() / 4), blocks: Vec::new(), levels: 0 },
-    };
-    c.out.blocks.reserve(n / 3);
-    c.out.nodes.push(N::empty());
+    let mut c =
+        Collapser { bin, nodes: Vec::with_capacity(bin.len() / 4), slots: Vec::with_capacity(n / 3), levels: 0 };
+    c.nodes.push(N::empty());
     c.node(0, 0, 1);
-    Ok(c.out)
+    // Block `k` holds leaf-order triangles `slots[k] .. slots[k] + 4` (fewer at a leaf's end).
+    let blocks = c
+        .slots
+        .par_iter()
+        .with_min_len(1024)
+        .map(|&(first, len)| {
+            let mut block = TriBlock::PAD;
+            for lane in 0..len as usize {
+                let i = first as usize + lane;
+                block.set(lane, &tri(i, ids[i]), ids[i]);
+            }
+            block
+        })
+        .collect();
+    Ok(Collapsed { nodes: c.nodes, blocks, levels: c.levels })
 }
 
-struct Collapser<'a, N, T> {
+struct Collapser<'a, N> {
     bin: &'a [BvhNode],
-    ids: &'a [u32],
-    tri: T,
-    out: Collapsed<N>,
+    nodes: Vec<N>,
+    /// Per block, in block order: its first leaf-order triangle and how many it holds.
+    slots: Vec<(u32, u32)>,
+    levels: u32,
 }
 
-impl<N: WideNode, T: Fn(usize, u32) -> Triangle> Collapser<'_, N, T> {
+impl<N: WideNode> Collapser<'_, N> {
     /// Emits the wide node for binary node `b` at interior level `level` (root: 1) into the
     /// slot `idx` (already pushed).
     ///
@@ -58,7 +73,7 @@ impl<N: WideNode, T: Fn(usize, u32) -> Triangle> Collapser<'_, N, T> {
     /// children take adjacent slots, before any grandchild is emitted; so the children a
     /// ray visits after one box test lie together in memory rather than a subtree apart.
     fn node(&mut self, b: usize, idx: usize, level: u32) {
-        self.out.levels = self.out.levels.max(level);
+        self.levels = self.levels.max(level);
         let bin = self.bin;
         // A one-leaf tree (few triangles) is a root with a single leaf child.
         let mut kids = [0usize; 8];
@@ -84,24 +99,20 @@ impl<N: WideNode, T: Fn(usize, u32) -> Triangle> Collapser<'_, N, T> {
         let mut n_interior = 0;
         for &k in &kids[..len] {
             let r = if bin[k].is_leaf() {
-                let (first, count) = (bin[k].index as usize, bin[k].count as usize);
-                let start = self.out.blocks.len() as u32;
-                for (c, ids) in self.ids[first..first + count].chunks(LANES).enumerate() {
-                    let mut block = TriBlock::PAD;
-                    for (lane, &id) in ids.iter().enumerate() {
-                        block.set(lane, &(self.tri)(first + c * LANES + lane, id), id);
-                    }
-                    self.out.blocks.push(block);
+                let (first, count) = (bin[k].index, bin[k].count);
+                let start = self.slots.len() as u32;
+                for c in (0..count).step_by(LANES) {
+                    self.slots.push((first + c, (count - c).min(LANES as u32)));
                 }
-                leaf_ref(start, self.out.blocks.len() as u32 - start)
+                leaf_ref(start, self.slots.len() as u32 - start)
             } else {
-                let slot = self.out.nodes.len();
-                self.out.nodes.push(N::empty());
+                let slot = self.nodes.len();
+                self.nodes.push(N::empty());
                 interior[n_interior] = (k, slot);
                 n_interior += 1;
                 slot as u32
             };
-            self.out.nodes[idx].push(r, &bin[k].bounds());
+            self.nodes[idx].push(r, &bin[k].bounds());
         }
         for &(k, slot) in &interior[..n_interior] {
             self.node(k, slot, level + 1);

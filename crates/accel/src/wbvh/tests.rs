@@ -10,10 +10,15 @@ use dynray_geom::TriangleMesh;
 
 /// A 30 × 30 grid of triangles (1,800): several levels at both widths.
 fn grid() -> TriangleMesh {
+    grid_of(30)
+}
+
+/// An `n` × `n` grid of quads, 2n² triangles on a bumpy sheet.
+fn grid_of(n: u32) -> TriangleMesh {
     let mut pos = Vec::new();
     let mut idx = Vec::new();
-    for i in 0..30u32 {
-        for j in 0..30u32 {
+    for i in 0..n {
+        for j in 0..n {
             let (x, y, z) = (i as f32, j as f32, ((i * 7 + j * 3) % 5) as f32 * 0.3);
             let b = pos.len() as u32;
             pos.extend([[x, y, z], [x + 0.9, y, z], [x, y + 0.9, z + 0.2], [x + 0.9, y + 0.9, z]]);
@@ -120,15 +125,34 @@ fn refit_on_the_same_mesh_reproduces_the_built_tree_bit_for_bit() {
         let mut w = built.clone();
         crate::Accel::update(&mut w, &moved).unwrap();
         crate::Accel::update(&mut w, &mesh).unwrap();
-        let bytes = |w: &Wbvh| match &w.tree {
-            super::Tree::W4(t) => {
-                (bytemuck::cast_slice::<_, u8>(&t.nodes).to_vec(), bytemuck::cast_slice::<_, u8>(&t.blocks).to_vec())
-            }
-            super::Tree::W8(t) => {
-                (bytemuck::cast_slice::<_, u8>(&t.nodes).to_vec(), bytemuck::cast_slice::<_, u8>(&t.blocks).to_vec())
-            }
-        };
         assert!(bytes(&w) == bytes(&built), "width {width}");
+    }
+}
+
+/// The node and block arrays as bytes.
+fn bytes(w: &Wbvh) -> (Vec<u8>, Vec<u8>) {
+    match &w.tree {
+        super::Tree::W4(t) => {
+            (bytemuck::cast_slice::<_, u8>(&t.nodes).to_vec(), bytemuck::cast_slice::<_, u8>(&t.blocks).to_vec())
+        }
+        super::Tree::W8(t) => {
+            (bytemuck::cast_slice::<_, u8>(&t.nodes).to_vec(), bytemuck::cast_slice::<_, u8>(&t.blocks).to_vec())
+        }
+    }
+}
+
+#[test]
+fn same_tree_on_one_and_two_threads() {
+    // 80,000 triangles: above the builder's parallel binning (65,536) and subtree (4,096)
+    // thresholds and the collapse's parallel block fill (1,024 blocks per task).
+    let mesh = grid_of(200);
+    for width in [4, 8] {
+        let p = WbvhParams { width, ..WbvhParams::default() };
+        let build = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| Wbvh::build(&mesh, &p).unwrap())
+        };
+        assert!(bytes(&build(1)) == bytes(&build(2)), "width {width}");
     }
 }
 
