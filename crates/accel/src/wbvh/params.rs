@@ -27,9 +27,10 @@ impl WbvhParams {
         Self { bvh: BvhParams { bins: 8, ..Self::default().bvh }, ..Self::default() }
     }
 
-    /// Slower builds, slightly better trees: 32 bins.
+    /// Slower builds, better trees: 32 bins and reinsertion on the binary tree before the
+    /// collapse (figures: docs/structures.md, "Reinsertion").
     pub fn high_quality() -> Self {
-        Self { bvh: BvhParams { bins: 32, ..Self::default().bvh }, ..Self::default() }
+        Self { bvh: BvhParams { bins: 32, reinsert: true, ..Self::default().bvh }, ..Self::default() }
     }
 }
 
@@ -40,7 +41,14 @@ impl Default for WbvhParams {
     fn default() -> Self {
         Self {
             width: 8,
-            bvh: BvhParams { bins: 16, leaf_size: 5, max_leaf_size: 16, traversal_cost: 1.0, intersection_cost: 1.0 },
+            bvh: BvhParams {
+                bins: 16,
+                leaf_size: 5,
+                max_leaf_size: 16,
+                traversal_cost: 1.0,
+                intersection_cost: 1.0,
+                reinsert: false,
+            },
             block_cost: true,
             scalar: false,
         }
@@ -57,6 +65,10 @@ impl StructureParams for WbvhParams {
         ParamKey { name: "block_cost", doc: "SAH leaf cost in 4-triangle blocks, on/off (default on)" },
         ParamKey { name: "traversal_cost", doc: "SAH K_T, (0, 1000] (default 1)" },
         ParamKey { name: "intersection_cost", doc: "SAH K_I, (0, 1000] (default 1)" },
+        ParamKey {
+            name: "reinsert",
+            doc: "move subtrees to lower the SAH cost before the collapse, on/off (default off)",
+        },
         ParamKey { name: "kernel", doc: "auto (AVX2 where present) or scalar (default auto)" },
     ];
 
@@ -74,6 +86,7 @@ impl StructureParams for WbvhParams {
             "block_cost" => self.block_cost = value::bool(s, key, v)?,
             "traversal_cost" => self.bvh.traversal_cost = value::f32(s, key, v)?,
             "intersection_cost" => self.bvh.intersection_cost = value::f32(s, key, v)?,
+            "reinsert" => self.bvh.reinsert = value::bool(s, key, v)?,
             "kernel" => self.scalar = value::choice(s, key, v, &["auto", "scalar"], "auto or scalar")? == 1,
             _ => return Err(unknown_key::<Self>(key)),
         }
