@@ -210,7 +210,8 @@ fn build_limited(
         let leaf_cost = |n: u32| builder.tri_cost(n);
         let outcome;
         (nodes, ids, depth, outcome) = reinsert(&nodes, &ids, kt, ki, leaf_cost);
-        debug_assert!(outcome.cost_after <= outcome.cost_before * (1.0 + 1e-9), "{outcome:?}");
+        let (before, after) = (outcome.cost_before, outcome.cost_after);
+        debug_assert!(after <= before * (1.0 + 1e-9), "{} rounds raised the SAH {before} to {after}", outcome.rounds);
     }
 
     let tris = if with_tris {
