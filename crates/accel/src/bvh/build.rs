@@ -7,6 +7,7 @@
 //! and assemble.rs joins them in a fixed depth-first order.
 
 use super::assemble::{assemble, Part};
+use super::reinsert::reinsert;
 use super::{BvhNode, BvhParams};
 use crate::BuildError;
 use crate::StructureParams;
@@ -200,14 +201,24 @@ fn build_limited(
 
     let builder = Builder { params, bins: params.bins as usize, sah_depth_limit, block_shift };
     let (part, count) = builder.subtree(&mut refs, 0, bounds, cb, 0);
-    let (nodes, depth) = assemble(part, count as usize);
+    let (mut nodes, mut depth) = assemble(part, count as usize);
+    let mut ids: Vec<u32> = refs.par_iter().with_min_len(4096).map(|r| r.id()).collect();
+    drop(refs);
+    if params.reinsert {
+        let (kt, ki) = (params.traversal_cost, params.intersection_cost);
+        // The leaf cost this build used, so the pass's stopping rule weighs what it did.
+        let leaf_cost = |n: u32| builder.tri_cost(n);
+        let outcome;
+        (nodes, ids, depth, outcome) = reinsert(&nodes, &ids, kt, ki, leaf_cost);
+        let (before, after) = (outcome.cost_before, outcome.cost_after);
+        debug_assert!(after <= before * (1.0 + 1e-9), "{} rounds raised the SAH {before} to {after}", outcome.rounds);
+    }
 
     let tris = if with_tris {
-        refs.par_iter().with_min_len(4096).map(|r| mesh.triangle(r.id() as usize)).collect()
+        ids.par_iter().with_min_len(4096).map(|&id| mesh.triangle(id as usize)).collect()
     } else {
         Vec::new()
     };
-    let ids = refs.par_iter().with_min_len(4096).map(|r| r.id()).collect();
     Ok(Built { nodes, tris, ids, depth })
 }
 

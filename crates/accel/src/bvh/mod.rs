@@ -7,7 +7,8 @@
 //!
 //! Files: [`params`] (presets), [`node`] (encoding), `build.rs` (parallel deterministic
 //! builder), `traverse.rs` (closest and any hit), `closest.rs` (closest-point query),
-//! `refit.rs`, `validate.rs`.
+//! `refit.rs`, `validate.rs`, `reinsert.rs` (the `high_quality` presets' SAH
+//! optimisation pass).
 //!
 //! Leaf size `M` (the seed found 5): measured with `benches/bvh.rs` on this 2-core machine,
 //! see the comment on [`BvhParams::default`].
@@ -18,6 +19,7 @@ mod closest;
 pub mod node;
 pub mod params;
 mod refit;
+mod reinsert;
 mod traverse;
 mod validate;
 

@@ -28,9 +28,10 @@ impl WbvhParams {
         Self { bvh: BvhParams { bins: 8, ..Self::default().bvh }, ..Self::default() }
     }
 
-    /// Slower builds, slightly better trees: 32 bins.
+    /// Slower builds, better trees: 32 bins and reinsertion on the binary tree before the
+    /// collapse (figures: docs/structures.md, "Reinsertion").
     pub fn high_quality() -> Self {
-        Self { bvh: BvhParams { bins: 32, ..Self::default().bvh }, ..Self::default() }
+        Self { bvh: BvhParams { bins: 32, reinsert: true, ..Self::default().bvh }, ..Self::default() }
     }
 }
 
@@ -41,7 +42,14 @@ impl Default for WbvhParams {
     fn default() -> Self {
         Self {
             width: 8,
-            bvh: BvhParams { bins: 16, leaf_size: 5, max_leaf_size: 16, traversal_cost: 1.0, intersection_cost: 1.0 },
+            bvh: BvhParams {
+                bins: 16,
+                leaf_size: 5,
+                max_leaf_size: 16,
+                traversal_cost: 1.0,
+                intersection_cost: 1.0,
+                reinsert: false,
+            },
             block_cost: true,
             kernel: KernelRequest::Auto,
         }
@@ -58,6 +66,10 @@ impl StructureParams for WbvhParams {
         ParamKey { name: "block_cost", doc: "SAH leaf cost in 4-triangle blocks, on/off (default on)" },
         ParamKey { name: "traversal_cost", doc: "SAH K_T, (0, 1000] (default 1)" },
         ParamKey { name: "intersection_cost", doc: "SAH K_I, (0, 1000] (default 1)" },
+        ParamKey {
+            name: "reinsert",
+            doc: "move subtrees to lower the SAH cost before the collapse, on/off (default off)",
+        },
         ParamKey { name: "kernel", doc: "auto (the fastest present), avx512, avx2 or scalar (default auto)" },
     ];
 
@@ -75,6 +87,7 @@ impl StructureParams for WbvhParams {
             "block_cost" => self.block_cost = value::bool(s, key, v)?,
             "traversal_cost" => self.bvh.traversal_cost = value::f32(s, key, v)?,
             "intersection_cost" => self.bvh.intersection_cost = value::f32(s, key, v)?,
+            "reinsert" => self.bvh.reinsert = value::bool(s, key, v)?,
             "kernel" => {
                 let i = value::choice(s, key, v, &KernelRequest::NAMES, "auto, avx512, avx2 or scalar")?;
                 self.kernel = KernelRequest::from_index(i);
