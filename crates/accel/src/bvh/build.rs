@@ -285,7 +285,9 @@ impl Builder<'_> {
             Split::Leaf => return None,
             Split::Plane { axis, bin, cmin, scale, left, right, left_count } => {
                 let b = bin as f32;
-                let (nl, lc, rc) = partition(refs, |c| goes_left(c[axis], cmin, scale, b));
+                let is_left = |c: Vec3A| goes_left(c[axis], cmin, scale, b);
+                let (nl, lc, rc) =
+                    if n >= PARALLEL_BIN_THRESHOLD { par_partition(refs, is_left) } else { partition(refs, is_left) };
                 assert_eq!(nl, left_count, "partition disagrees with binning (axis {axis}, bin {bin})");
                 Sides { nl, lb: left, rb: right, lc, rc }
             }
@@ -513,6 +515,54 @@ fn partition(refs: &mut [PrimRef], is_left: impl Fn(Vec3A) -> bool) -> (usize, B
     }
 }
 
+/// [`partition`] of a large node on all threads (issue 11: the root's 871k dragon refs were
+/// partitioned by one thread while the other waited). Each fixed `BIN_CHUNK` chunk is
+/// partitioned in place in parallel, then the rights that lie below the final split point
+/// are swapped, in parallel pieces, with the lefts above it (Embree's parallel in-place
+/// partition). The chunking, not the thread count, fixes the result, so builds stay
+/// deterministic; each side holds the same refs as after [`partition`], in another order.
+fn par_partition(refs: &mut [PrimRef], is_left: impl Fn(Vec3A) -> bool + Sync) -> (usize, Box3, Box3) {
+    let parts: Vec<(usize, Box3, Box3)> = refs.par_chunks_mut(BIN_CHUNK).map(|c| partition(c, &is_left)).collect();
+    let n = refs.len();
+    let nl: usize = parts.iter().map(|p| p.0).sum();
+    let (lc, rc) = parts.iter().fold((Box3::EMPTY, Box3::EMPTY), |(l, r), p| (l.union(&p.1), r.union(&p.2)));
+    // Misplaced ranges, ascending: rights inside [0, nl), lefts inside [nl, n). They hold
+    // equally many refs (the rights below nl are nl minus the lefts below it).
+    let (mut rights_low, mut lefts_high) = (Vec::new(), Vec::new());
+    for (i, p) in parts.iter().enumerate() {
+        let start = i * BIN_CHUNK;
+        let (mid, end) = (start + p.0, (start + BIN_CHUNK).min(n));
+        if mid > nl.max(start) {
+            lefts_high.push(nl.max(start)..mid);
+        }
+        if nl.min(end) > mid {
+            rights_low.push(mid..nl.min(end));
+        }
+    }
+    // Pair them into equal pieces of at most BIN_CHUNK refs, cut off the two halves in
+    // ascending order (disjoint `&mut` slices without unsafe).
+    let (mut low, mut high) = refs.split_at_mut(nl);
+    let (mut low_at, mut high_at) = (0, nl);
+    let mut pieces = Vec::new();
+    let (mut ra, mut rb) = (rights_low.into_iter(), lefts_high.into_iter());
+    let (mut a, mut b) = (ra.next(), rb.next());
+    while let (Some(x), Some(y)) = (a.clone(), b.clone()) {
+        let len = x.len().min(y.len()).min(BIN_CHUNK);
+        let (_, rest) = std::mem::take(&mut low).split_at_mut(x.start - low_at);
+        let (pa, rest) = rest.split_at_mut(len);
+        (low, low_at) = (rest, x.start + len);
+        let (_, rest) = std::mem::take(&mut high).split_at_mut(y.start - high_at);
+        let (pb, rest) = rest.split_at_mut(len);
+        (high, high_at) = (rest, y.start + len);
+        pieces.push((pa, pb));
+        a = if len == x.len() { ra.next() } else { Some(x.start + len..x.end) };
+        b = if len == y.len() { rb.next() } else { Some(y.start + len..y.end) };
+    }
+    debug_assert!(a.is_none() && b.is_none(), "misplaced counts differ");
+    pieces.into_par_iter().for_each(|(pa, pb)| pa.swap_with_slice(pb));
+    (nl, lc, rc)
+}
+
 /// Halves `refs`: by centroid order along `axis` (object median), or by index.
 fn median_split(refs: &mut [PrimRef], axis: Option<usize>) -> Sides {
     let mid = refs.len() / 2;
@@ -558,6 +608,31 @@ mod tests {
         let mut ids: Vec<u32> = v.iter().map(|p| p.id()).collect();
         ids.sort();
         assert_eq!(ids, (0..7).collect::<Vec<_>>());
+    }
+
+    /// The parallel partition puts the same refs on each side as the serial one, with the
+    /// same centroid boxes, whatever the chunks' mix (all left, all right, mixed).
+    #[test]
+    fn par_partition_matches_partition() {
+        let n = 3 * BIN_CHUNK + 1234;
+        let v: Vec<PrimRef> = (0..n as u32).map(|i| r((i.wrapping_mul(2_654_435_761) % 1000) as f32, i)).collect();
+        for cut in [-1.0, 300.0, 1001.0, 1999.0, 2500.0] {
+            // The first chunk is all at 0: all left or all right of the other chunks' mix.
+            let pred = |c: Vec3A| c.x < cut;
+            let mut a = v.clone();
+            a[..BIN_CHUNK].iter_mut().for_each(|p| *p = r(0.0, p.id()));
+            let mut b = a.clone();
+            let (sa, sb) = (partition(&mut a, pred), par_partition(&mut b, pred));
+            assert_eq!(sa.0, sb.0, "cut {cut}");
+            assert_eq!((sa.1.lo, sa.1.hi, sa.2.lo, sa.2.hi), (sb.1.lo, sb.1.hi, sb.2.lo, sb.2.hi));
+            let side = |s: &[PrimRef]| {
+                let mut ids: Vec<u32> = s.iter().map(|p| p.id()).collect();
+                ids.sort_unstable();
+                ids
+            };
+            assert_eq!(side(&a[..sa.0]), side(&b[..sb.0]), "cut {cut}");
+            assert_eq!(side(&a[sa.0..]), side(&b[sb.0..]), "cut {cut}");
+        }
     }
 
     #[test]
