@@ -12,7 +12,7 @@ use super::{BvhNode, BvhParams};
 use crate::BuildError;
 use crate::StructureParams;
 use dynray_geom::{Aabb, Triangle, TriangleMesh};
-use glam::{Vec3A, Vec4};
+use glam::{UVec4, Vec3A, Vec4};
 use rayon::prelude::*;
 
 /// Nodes with at least this many triangles build their two subtrees with `rayon::join`.
@@ -58,13 +58,6 @@ impl Box3 {
         self
     }
 
-    /// Surface area of a non-empty box (callers skip empty ones).
-    #[inline(always)]
-    fn area(&self) -> f32 {
-        let e = self.hi - self.lo;
-        2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
-    }
-
     fn aabb(&self) -> Aabb {
         Aabb::new(self.lo.into(), self.hi.into())
     }
@@ -103,14 +96,16 @@ impl PrimRef {
     }
 }
 
-/// SAH bins of all three axes, axis-major: `3 * k` boxes and counts (a bin holds the
-/// triangles whose centroid falls into one slice of the centroid box), plus the sweep's
-/// per-plane scratch.
+/// SAH bins of all three axes, bin-major (Embree's layout): per bin, the three axes' boxes
+/// and counts (a bin holds the triangles whose centroid falls into one slice of the
+/// centroid box), so the sweep of [`Builder::pick`] runs the three axes as SIMD lanes; plus
+/// the sweep's per-plane scratch.
 struct Bins {
-    boxes: Vec<Box3>,
-    counts: Vec<u32>,
-    right_area: Vec<f32>,
-    right_count: Vec<u32>,
+    boxes: Vec<[Box3; 3]>,
+    /// Lane `a`: the count of axis `a` (lane 3 unused).
+    counts: Vec<UVec4>,
+    right_area: Vec<Vec3A>,
+    right_count: Vec<UVec4>,
 }
 
 impl Bins {
@@ -123,22 +118,55 @@ impl Bins {
     /// Empties the bins for a node with `k` bins per axis, keeping the allocations.
     fn reset(&mut self, k: usize) {
         self.boxes.clear();
-        self.boxes.resize(3 * k, Box3::EMPTY);
+        self.boxes.resize(k, [Box3::EMPTY; 3]);
         self.counts.clear();
-        self.counts.resize(3 * k, 0);
-        self.right_area.resize(k, 0.0);
-        self.right_count.resize(k, 0);
+        self.counts.resize(k, UVec4::ZERO);
+        self.right_area.resize(k, Vec3A::ZERO);
+        self.right_count.resize(k, UVec4::ZERO);
     }
 
     fn merge(mut self, o: Bins) -> Bins {
         for (a, b) in self.boxes.iter_mut().zip(&o.boxes) {
-            *a = a.union(b);
+            *a = [a[0].union(&b[0]), a[1].union(&b[1]), a[2].union(&b[2])];
         }
         for (a, b) in self.counts.iter_mut().zip(&o.counts) {
-            *a += b;
+            *a += *b;
         }
         self
     }
+}
+
+/// Surface areas of three boxes as the lanes of one vector, each lane `2(xy + yz + zx)` of
+/// the box's extent in that order (the per-axis scalar sweep's formula, bit for bit).
+#[inline(always)]
+fn areas3(b: &[Box3; 3]) -> Vec3A {
+    let [e0, e1, e2] = [b[0].hi - b[0].lo, b[1].hi - b[1].lo, b[2].hi - b[2].lo];
+    let x = Vec3A::new(e0.x, e1.x, e2.x);
+    let y = Vec3A::new(e0.y, e1.y, e2.y);
+    let z = Vec3A::new(e0.z, e1.z, e2.z);
+    2.0 * (x * y + y * z + z * x)
+}
+
+/// The bins (per axis) of the centroids whose scaled offsets `t = (c - cmin) * scale` are
+/// given: `trunc(t)` clamped to `0 ..= k - 1`, NaN to 0. All in vector instructions: a
+/// scalar `as usize` per lane saturates with compares and branches, and was the largest
+/// share of binning's instructions. Adding 2^23 to a whole number below 2^23 puts it in
+/// the float's mantissa bits.
+#[inline(always)]
+fn bins3(t: Vec3A, kmax: Vec3A) -> [usize; 3] {
+    // `max` returns its argument for a NaN lane, so NaN maps to bin 0.
+    let t = t.max(Vec3A::ZERO).min(kmax).trunc() + Vec3A::splat(8_388_608.0);
+    t.to_array().map(|x| (x.to_bits() & 0x7f_ffff) as usize)
+}
+
+/// Whether a centroid coordinate `c` goes left of the plane at `bin` (1 ..= k - 1) on its
+/// axis: exactly when [`bins3`] put it in a bin `< bin` (for `t >= 0`, `trunc(t) < bin` iff
+/// `t < bin`; negative and NaN `t` are bin 0), so partition puts exactly the binned counts
+/// on each side. A float compare instead of a saturating cast per ref.
+#[inline(always)]
+fn goes_left(c: f32, cmin: f32, scale: f32, bin: f32) -> bool {
+    let t = (c - cmin) * scale;
+    t < bin || t.is_nan()
 }
 
 thread_local! {
@@ -226,19 +254,11 @@ fn build_limited(
 enum Split {
     /// Make it a leaf.
     Leaf,
-    /// Left = centroids in bins `< bin` along `axis` (see [`bin_of`]).
-    Plane { axis: usize, bin: usize, k: usize, cmin: f32, scale: f32, left: Box3, right: Box3, left_count: usize },
+    /// Left = centroids in bins `< bin` along `axis` (see [`goes_left`]).
+    Plane { axis: usize, bin: usize, cmin: f32, scale: f32, left: Box3, right: Box3, left_count: usize },
     /// Halve by object median along `axis`, or by index when `axis` is `None` (all
     /// centroids coincide).
     Median { axis: Option<usize> },
-}
-
-/// The bin of centroid coordinate `c`. Partition uses this same function, so it puts
-/// exactly the binned counts on each side (a float plane compare could disagree by
-/// rounding and leave one side empty). `as usize` saturates and maps NaN to 0.
-#[inline(always)]
-fn bin_of(c: f32, cmin: f32, scale: f32, k: usize) -> usize {
-    (((c - cmin) * scale) as usize).min(k - 1)
 }
 
 struct Builder<'a> {
@@ -274,8 +294,11 @@ impl Builder<'_> {
         }
         let s = match self.choose_split(refs, bounds, cb, depth) {
             Split::Leaf => return None,
-            Split::Plane { axis, bin, k, cmin, scale, left, right, left_count } => {
-                let (nl, lc, rc) = partition(refs, |c| bin_of(c[axis], cmin, scale, k) < bin);
+            Split::Plane { axis, bin, cmin, scale, left, right, left_count } => {
+                let b = bin as f32;
+                let is_left = |c: Vec3A| goes_left(c[axis], cmin, scale, b);
+                let (nl, lc, rc) =
+                    if n >= PARALLEL_BIN_THRESHOLD { par_partition(refs, is_left) } else { partition(refs, is_left) };
                 assert_eq!(nl, left_count, "partition disagrees with binning (axis {axis}, bin {bin})");
                 Sides { nl, lb: left, rb: right, lc, rc }
             }
@@ -384,36 +407,52 @@ impl Builder<'_> {
         }
     }
 
-    /// Steps 5–6 on filled bins: the cheapest plane, or a leaf.
+    /// Steps 5–6 on filled bins: the cheapest plane, or a leaf. The three axes are the
+    /// lanes of one sweep (Embree's heuristic_binning.h); each lane computes exactly the
+    /// cost a per-axis scalar sweep would, and ties go to the lowest axis, then plane.
     fn pick(&self, bins: &mut Bins, cb: &Box3, scale: Vec3A, k: usize, bounds: &Box3, n: usize) -> Split {
         // Sweep: right-to-left suffix areas and counts, then left-to-right costs (Eq. 2.2).
-        let mut best: Option<(f32, usize, usize)> = None;
         let Bins { boxes, counts, right_area, right_count } = bins;
-        for axis in 0..3 {
-            if scale[axis] == 0.0 {
-                continue;
-            }
-            let (b, c) = (&boxes[axis * k..(axis + 1) * k], &counts[axis * k..(axis + 1) * k]);
-            let (mut acc, mut cnt) = (Box3::EMPTY, 0);
-            for i in (1..k).rev() {
-                acc = acc.union(&b[i]);
-                cnt += c[i];
-                // An empty side is skipped below, so its (infinite) area is never used.
-                right_area[i] = acc.area();
-                right_count[i] = cnt;
-            }
-            let (mut acc, mut cnt) = (Box3::EMPTY, 0);
-            for i in 1..k {
-                acc = acc.union(&b[i - 1]);
-                cnt += c[i - 1];
-                if cnt == 0 || right_count[i] == 0 {
-                    continue;
+        let (mut acc, mut cnt) = ([Box3::EMPTY; 3], UVec4::ZERO);
+        for i in (1..k).rev() {
+            acc = [acc[0].union(&boxes[i][0]), acc[1].union(&boxes[i][1]), acc[2].union(&boxes[i][2])];
+            cnt += counts[i];
+            // An empty side is masked below, so its (infinite) area is never used.
+            right_area[i] = areas3(&acc);
+            right_count[i] = cnt;
+        }
+        let axis_ok = scale.cmpgt(Vec3A::ZERO);
+        let round = UVec4::splat((1 << self.block_shift) - 1);
+        // Triangle cost of each lane's count: `tri_cost` lane by lane.
+        let tri_cost = |c: UVec4| {
+            let b = (c + round) >> self.block_shift;
+            Vec3A::new(b.x as f32, b.y as f32, b.z as f32)
+        };
+        let (mut best_cost, mut best_bin, mut found) = (Vec3A::INFINITY, [0usize; 3], [false; 3]);
+        let (mut acc, mut cnt) = ([Box3::EMPTY; 3], UVec4::ZERO);
+        for i in 1..k {
+            acc = [acc[0].union(&boxes[i - 1][0]), acc[1].union(&boxes[i - 1][1]), acc[2].union(&boxes[i - 1][2])];
+            cnt += counts[i - 1];
+            let (lt, rt) = (tri_cost(cnt), tri_cost(right_count[i]));
+            let cost = areas3(&acc) * lt + right_area[i] * rt;
+            let ok = axis_ok & lt.cmpgt(Vec3A::ZERO) & rt.cmpgt(Vec3A::ZERO);
+            // Strict `<`: the first plane wins ties, so builds are reproducible.
+            let okm = ok.bitmask();
+            if okm != 0 {
+                let better = cost.cmplt(best_cost).bitmask();
+                for a in 0..3 {
+                    if okm & (1 << a) != 0 && (!found[a] || better & (1 << a) != 0) {
+                        found[a] = true;
+                        best_cost[a] = cost[a];
+                        best_bin[a] = i;
+                    }
                 }
-                let cost = acc.area() * self.tri_cost(cnt) + right_area[i] * self.tri_cost(right_count[i]);
-                // Strict `<`: the first axis and plane win ties, so builds are reproducible.
-                if best.is_none_or(|(c, _, _)| cost < c) {
-                    best = Some((cost, axis, i));
-                }
+            }
+        }
+        let mut best: Option<(f32, usize, usize)> = None;
+        for a in 0..3 {
+            if found[a] && best.is_none_or(|(c, _, _)| best_cost[a] < c) {
+                best = Some((best_cost[a], a, best_bin[a]));
             }
         }
         let Some((cost, axis, bin)) = best else {
@@ -431,24 +470,23 @@ impl Builder<'_> {
         if split_cost > leaf_cost && n <= self.params.max_leaf_size as usize {
             return Split::Leaf;
         }
-        let (b, c) = (&boxes[axis * k..(axis + 1) * k], &counts[axis * k..(axis + 1) * k]);
-        let left = b[..bin].iter().fold(Box3::EMPTY, |a, x| a.union(x));
-        let right = b[bin..].iter().fold(Box3::EMPTY, |a, x| a.union(x));
-        let left_count = c[..bin].iter().sum::<u32>() as usize;
-        Split::Plane { axis, bin, k, cmin: cb.lo[axis], scale: scale[axis], left, right, left_count }
+        let left = boxes[..bin].iter().fold(Box3::EMPTY, |a, x| a.union(&x[axis]));
+        let right = boxes[bin..].iter().fold(Box3::EMPTY, |a, x| a.union(&x[axis]));
+        let left_count = counts[..bin].iter().map(|c| c[axis]).sum::<u32>() as usize;
+        Split::Plane { axis, bin, cmin: cb.lo[axis], scale: scale[axis], left, right, left_count }
     }
 }
 
 /// Adds `refs` to the bins of all three axes.
 fn bin_refs(refs: &[PrimRef], cb: &Box3, scale: Vec3A, k: usize, bins: &mut Bins) {
+    let kmax = Vec3A::splat((k - 1) as f32);
     for r in refs {
-        // Lane by lane the same IEEE operations as `bin_of`, so partition agrees exactly.
-        let t = ((r.center2() - cb.lo) * scale).to_array();
+        // Lane by lane the same IEEE operations as `goes_left`, so partition agrees exactly.
+        let i = bins3((r.center2() - cb.lo) * scale, kmax);
         let b = r.bounds();
-        for (axis, t) in t.into_iter().enumerate() {
-            let i = axis * k + (t as usize).min(k - 1);
-            bins.boxes[i] = bins.boxes[i].union(&b);
-            bins.counts[i] += 1;
+        for (axis, &i) in i.iter().enumerate() {
+            bins.boxes[i][axis] = bins.boxes[i][axis].union(&b);
+            bins.counts[i][axis] += 1;
         }
     }
 }
@@ -486,6 +524,54 @@ fn partition(refs: &mut [PrimRef], is_left: impl Fn(Vec3A) -> bool) -> (usize, B
         l += 1;
         r -= 1;
     }
+}
+
+/// [`partition`] of a large node on all threads (issue 11: the root's 871k dragon refs were
+/// partitioned by one thread while the other waited). Each fixed `BIN_CHUNK` chunk is
+/// partitioned in place in parallel, then the rights that lie below the final split point
+/// are swapped, in parallel pieces, with the lefts above it (Embree's parallel in-place
+/// partition). The chunking, not the thread count, fixes the result, so builds stay
+/// deterministic; each side holds the same refs as after [`partition`], in another order.
+fn par_partition(refs: &mut [PrimRef], is_left: impl Fn(Vec3A) -> bool + Sync) -> (usize, Box3, Box3) {
+    let parts: Vec<(usize, Box3, Box3)> = refs.par_chunks_mut(BIN_CHUNK).map(|c| partition(c, &is_left)).collect();
+    let n = refs.len();
+    let nl: usize = parts.iter().map(|p| p.0).sum();
+    let (lc, rc) = parts.iter().fold((Box3::EMPTY, Box3::EMPTY), |(l, r), p| (l.union(&p.1), r.union(&p.2)));
+    // Misplaced ranges, ascending: rights inside [0, nl), lefts inside [nl, n). They hold
+    // equally many refs (the rights below nl are nl minus the lefts below it).
+    let (mut rights_low, mut lefts_high) = (Vec::new(), Vec::new());
+    for (i, p) in parts.iter().enumerate() {
+        let start = i * BIN_CHUNK;
+        let (mid, end) = (start + p.0, (start + BIN_CHUNK).min(n));
+        if mid > nl.max(start) {
+            lefts_high.push(nl.max(start)..mid);
+        }
+        if nl.min(end) > mid {
+            rights_low.push(mid..nl.min(end));
+        }
+    }
+    // Pair them into equal pieces of at most BIN_CHUNK refs, cut off the two halves in
+    // ascending order (disjoint `&mut` slices without unsafe).
+    let (mut low, mut high) = refs.split_at_mut(nl);
+    let (mut low_at, mut high_at) = (0, nl);
+    let mut pieces = Vec::new();
+    let (mut ra, mut rb) = (rights_low.into_iter(), lefts_high.into_iter());
+    let (mut a, mut b) = (ra.next(), rb.next());
+    while let (Some(x), Some(y)) = (a.clone(), b.clone()) {
+        let len = x.len().min(y.len()).min(BIN_CHUNK);
+        let (_, rest) = std::mem::take(&mut low).split_at_mut(x.start - low_at);
+        let (pa, rest) = rest.split_at_mut(len);
+        (low, low_at) = (rest, x.start + len);
+        let (_, rest) = std::mem::take(&mut high).split_at_mut(y.start - high_at);
+        let (pb, rest) = rest.split_at_mut(len);
+        (high, high_at) = (rest, y.start + len);
+        pieces.push((pa, pb));
+        a = if len == x.len() { ra.next() } else { Some(x.start + len..x.end) };
+        b = if len == y.len() { rb.next() } else { Some(y.start + len..y.end) };
+    }
+    debug_assert!(a.is_none() && b.is_none(), "misplaced counts differ");
+    pieces.into_par_iter().for_each(|(pa, pb)| pa.swap_with_slice(pb));
+    (nl, lc, rc)
 }
 
 /// Halves `refs`: by centroid order along `axis` (object median), or by index.
@@ -533,6 +619,31 @@ mod tests {
         let mut ids: Vec<u32> = v.iter().map(|p| p.id()).collect();
         ids.sort();
         assert_eq!(ids, (0..7).collect::<Vec<_>>());
+    }
+
+    /// The parallel partition puts the same refs on each side as the serial one, with the
+    /// same centroid boxes, whatever the chunks' mix (all left, all right, mixed).
+    #[test]
+    fn par_partition_matches_partition() {
+        let n = 3 * BIN_CHUNK + 1234;
+        let v: Vec<PrimRef> = (0..n as u32).map(|i| r((i.wrapping_mul(2_654_435_761) % 1000) as f32, i)).collect();
+        for cut in [-1.0, 300.0, 1001.0, 1999.0, 2500.0] {
+            // The first chunk is all at 0: all left or all right of the other chunks' mix.
+            let pred = |c: Vec3A| c.x < cut;
+            let mut a = v.clone();
+            a[..BIN_CHUNK].iter_mut().for_each(|p| *p = r(0.0, p.id()));
+            let mut b = a.clone();
+            let (sa, sb) = (partition(&mut a, pred), par_partition(&mut b, pred));
+            assert_eq!(sa.0, sb.0, "cut {cut}");
+            assert_eq!((sa.1.lo, sa.1.hi, sa.2.lo, sa.2.hi), (sb.1.lo, sb.1.hi, sb.2.lo, sb.2.hi));
+            let side = |s: &[PrimRef]| {
+                let mut ids: Vec<u32> = s.iter().map(|p| p.id()).collect();
+                ids.sort_unstable();
+                ids
+            };
+            assert_eq!(side(&a[..sa.0]), side(&b[..sb.0]), "cut {cut}");
+            assert_eq!(side(&a[sa.0..]), side(&b[sb.0..]), "cut {cut}");
+        }
     }
 
     #[test]
@@ -594,10 +705,23 @@ mod tests {
     }
 
     #[test]
-    fn bin_of_clamps_and_maps_nan_to_zero() {
-        assert_eq!(bin_of(10.0, 0.0, 1.6, 16), 15);
-        assert_eq!(bin_of(0.0, 0.0, 1.6, 16), 0);
-        assert_eq!(bin_of(0.0, 0.0, f32::INFINITY, 16), 0);
-        assert_eq!(bin_of(1.0, 0.0, f32::INFINITY, 16), 15);
+    fn bins_clamp_and_map_nan_to_zero() {
+        let kmax = Vec3A::splat(15.0);
+        assert_eq!(bins3(Vec3A::new(16.0, 0.0, -3.0), kmax), [15, 0, 0]);
+        assert_eq!(bins3(Vec3A::new(f32::NAN, 14.999, f32::INFINITY), kmax), [0, 14, 15]);
+    }
+
+    /// `goes_left` puts a coordinate left of plane `bin` exactly when `bins3` bins it below.
+    #[test]
+    fn goes_left_agrees_with_binning() {
+        let (cmin, scale, kmax) = (-1.5f32, 3.7f32, Vec3A::splat(15.0));
+        let mut cs = vec![f32::NAN, f32::INFINITY, f32::NEG_INFINITY, -1e30, 1e30, cmin];
+        cs.extend((-200..2000).map(|i| i as f32 * 0.0031 - 2.0));
+        for bin in 1..16 {
+            for &c in &cs {
+                let binned = bins3(Vec3A::splat((c - cmin) * scale), kmax)[0];
+                assert_eq!(goes_left(c, cmin, scale, bin as f32), binned < bin, "c {c} bin {bin}");
+            }
+        }
     }
 }
