@@ -154,16 +154,16 @@ fn pair_test(a: &TriBlock, b: &TriBlock, r: &PreparedRay, r8: &Ray8, tmax: f32) 
     }
 }
 
-/// Keeps in `best` the hits of `h` (lane `l` has mesh id `ids(l)`) closer than it.
+/// Keeps in `best` the hits of `h` (lane `l` has mesh id `ids[l]`) closer than it.
 #[inline(always)]
-fn keep_closest<const L: usize>(h: &Hits<L>, ids: impl Fn(usize) -> u32, best: &mut Hit) {
+fn keep_closest<const L: usize>(h: &Hits<L>, ids: &[u32; L], best: &mut Hit) {
     let mut m = h.mask;
     while m != 0 {
         let l = m.trailing_zeros() as usize;
         m &= m - 1;
         // `is_closer` is a strict order on (t, id), so lane order does not matter.
-        if Hit::is_closer(h.t[l], ids(l), best) {
-            *best = Hit { t: h.t[l], u: h.u[l], v: h.v[l], prim: ids(l) };
+        if Hit::is_closer(h.t[l], ids[l], best) {
+            *best = Hit { t: h.t[l], u: h.u[l], v: h.v[l], prim: ids[l] };
         }
     }
 }
@@ -222,7 +222,8 @@ impl Kernel for Avx512 {
         for p in &mut pairs {
             let (a, b) = (&p[0], &p[1]);
             if let Some(h) = pair_test(a, b, r, &r8, best.t.min(r.ray.tmax)) {
-                keep_closest(&h, |l| if l < 4 { a.ids[l] } else { b.ids[l - 4] }, best);
+                let ids: [u32; 8] = [a.ids[0], a.ids[1], a.ids[2], a.ids[3], b.ids[0], b.ids[1], b.ids[2], b.ids[3]];
+                keep_closest(&h, &ids, best);
             }
         }
         if let [last] = pairs.remainder() {
@@ -239,7 +240,13 @@ impl Kernel for Avx512 {
                 return true;
             }
         }
-        pairs.remainder().iter().any(|b| Avx2::any(b, r))
+        // A loop, not `any(closure)`: see `Kernel::any_leaf`.
+        for b in pairs.remainder() {
+            if Avx2::any(b, r) {
+                return true;
+            }
+        }
+        false
     }
 
     /// Eight children: a sorting network on all lanes instead of the insertion sort's

@@ -37,7 +37,7 @@ pub fn any(blocks: &[TriBlock], r: &PreparedRay, kernel: KernelChoice) -> bool {
         KernelChoice::Scalar => {}
     }
     let _ = kernel;
-    blocks.iter().any(|b| Scalar::any(b, r))
+    Scalar::any_leaf(blocks, r)
 }
 
 #[inline(always)]
@@ -59,7 +59,7 @@ unsafe fn closest_avx2(blocks: &[TriBlock], r: &PreparedRay) -> Hit {
 #[allow(unsafe_code)]
 unsafe fn any_avx2(blocks: &[TriBlock], r: &PreparedRay) -> bool {
     use super::kernel_avx2::Avx2;
-    blocks.iter().any(|b| Avx2::any(b, r))
+    Avx2::any_leaf(blocks, r)
 }
 
 #[cfg(target_arch = "x86_64")]
