@@ -1,7 +1,13 @@
 //! The AVX-512 kernel: the f64 watertight test on two leaf blocks at once (8 triangles in
-//! one `__m512d`), one block with mask registers where a leaf has an odd count, and the
-//! box test of the AVX2 kernel with its compares written straight into mask registers
-//! (AVX-512 VL), so no `movemask` and no blend through a vector register.
+//! one `__m512d`), the AVX2 block test where a leaf has an odd count, and the box test of
+//! the AVX2 kernel with its compares written straight into mask registers (AVX-512 VL),
+//! so no `movemask` and no blend through a vector register.
+//!
+//! Tried and dropped: pushing a node's hit children with a 19-comparator sorting network
+//! over all 8 lanes (integer keys from the distances, two vector stores) instead of the
+//! insertion sort. Two alternated `dynray bench` runs (bunny, dragon, BART kitchen, 2
+//! threads): primary rays 0.62–0.72× Embree with the network against 0.60–0.85× without
+//! (dragon 10.5 / 11.6 against 13.5 / 14.8 Mrays/s), incoherent kinds equal within noise.
 //!
 //! Bit-identical to [`super::kernel::Scalar`] for the reasons kernel_avx2.rs gives: every
 //! lane performs the scalar test's IEEE operations in its order (no FMA intrinsic; Rust
@@ -20,7 +26,6 @@ use super::block::TriBlock;
 use super::kernel::{BoxRay, Kernel, Nears};
 use super::kernel_avx2::Avx2;
 use super::node::WideNode;
-use super::traverse::Entry;
 use bytemuck::cast;
 use dynray_geom::{Hit, PreparedRay, SLAB_MARGIN};
 use std::arch::x86_64::*;
@@ -249,55 +254,6 @@ impl Kernel for Avx512 {
         false
     }
 
-    /// Eight children: a sorting network on all lanes instead of the insertion sort's
-    /// data-dependent branches, and the sorted run stored with two vector stores.
-    #[inline(always)]
-    fn push_hits<N: WideNode>(node: &N, mask: u32, near: &Nears, stack: &mut [Entry], sp: usize) -> usize {
-        if N::W != 8 {
-            return Avx2::push_hits(node, mask, near, stack, sp);
-        }
-        // SAFETY: see the file's header.
-        let sorted: [Entry; 8] = unsafe {
-            // Keys that order as the distances do (the sign-magnitude float made two's
-            // complement); lanes not hit get i32::MIN, below every distance's key (only a
-            // negative NaN maps there, and a hit lane's distance is never NaN).
-            let bits = _mm256_castps_si256(cast::<Nears, __m256>(*near));
-            let key = _mm256_xor_si256(bits, _mm256_srli_epi32::<1>(_mm256_srai_epi32::<31>(bits)));
-            let mut key = _mm256_mask_blend_epi32(mask as __mmask8, _mm256_set1_epi32(i32::MIN), key);
-            let children: [u32; 8] = node.children().try_into().expect("8 lanes");
-            let mut child = cast::<[u32; 8], __m256i>(children);
-            // A 19-comparator, 6-layer network, descending: the farthest first. Each
-            // layer pairs lanes (i < j), lane i keeps the larger key, lane j the smaller;
-            // `partner` maps each lane to its pair (itself when idle that layer).
-            const LAYERS: [([i32; 8], u8); 6] = [
-                ([2, 3, 0, 1, 6, 7, 4, 5], 0b0011_0011),
-                ([4, 5, 6, 7, 0, 1, 2, 3], 0b0000_1111),
-                ([1, 0, 3, 2, 5, 4, 7, 6], 0b0101_0101),
-                ([0, 1, 4, 5, 2, 3, 6, 7], 0b0000_1100),
-                ([0, 4, 2, 6, 1, 5, 3, 7], 0b0000_1010),
-                ([0, 2, 1, 4, 3, 6, 5, 7], 0b0010_1010),
-            ];
-            for (partner, keeps_max) in LAYERS {
-                let idx = cast::<[i32; 8], __m256i>(partner);
-                let (pk, pc) = (_mm256_permutevar8x32_epi32(key, idx), _mm256_permutevar8x32_epi32(child, idx));
-                // Take the partner's entry where it is strictly better for this lane's
-                // role; on a tie both keep their own, so no entry is lost or doubled.
-                let take =
-                    (_mm256_cmpgt_epi32_mask(pk, key) & keeps_max) | (_mm256_cmpgt_epi32_mask(key, pk) & !keeps_max);
-                key = _mm256_mask_blend_epi32(take, key, pk);
-                child = _mm256_mask_blend_epi32(take, child, pc);
-            }
-            // Back to distances, then interleave (child, t) pairs in stack order.
-            let t = _mm256_xor_si256(key, _mm256_srli_epi32::<1>(_mm256_srai_epi32::<31>(key)));
-            let (lo, hi) = (_mm256_unpacklo_epi32(child, t), _mm256_unpackhi_epi32(child, t));
-            let first = _mm256_permute2x128_si256::<0x20>(lo, hi);
-            let second = _mm256_permute2x128_si256::<0x31>(lo, hi);
-            cast::<[__m256i; 2], [Entry; 8]>([first, second])
-        };
-        stack[sp..sp + 8].copy_from_slice(&sorted);
-        sp + mask.count_ones() as usize
-    }
-
     #[inline(always)]
     fn prefetch<T>(x: &T) {
         Avx2::prefetch(x)
@@ -327,22 +283,6 @@ impl Avx512 {
         assert!(available());
         // SAFETY: the features were checked on the line above.
         unsafe { go(blocks, r) }
-    }
-
-    pub(super) fn push_hits_checked<N: WideNode>(
-        node: &N,
-        mask: u32,
-        near: &Nears,
-        stack: &mut [Entry],
-        sp: usize,
-    ) -> usize {
-        #[target_feature(enable = "avx2,avx512f,avx512vl")]
-        fn go<N: WideNode>(node: &N, mask: u32, near: &Nears, stack: &mut [Entry], sp: usize) -> usize {
-            Avx512::push_hits(node, mask, near, stack, sp)
-        }
-        assert!(available());
-        // SAFETY: the features were checked on the line above.
-        unsafe { go(node, mask, near, stack, sp) }
     }
 
     pub(super) fn boxes_checked<N: WideNode>(node: &N, r: &BoxRay, tmin: f32, limit: f32, near: &mut Nears) -> u32 {

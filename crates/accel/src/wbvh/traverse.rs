@@ -14,9 +14,9 @@ use crate::Counter;
 use dynray_geom::{Hit, PreparedRay, Ray};
 
 /// Stack entries of trees whose bound (see [`stack_need`]) fits: 768 bytes to set up per
-/// ray, enough for 12 levels of an 8-wide tree (the 871k-triangle dragon has 9). Deeper
+/// ray, enough for 13 levels of an 8-wide tree (the 871k-triangle dragon has 9). Deeper
 /// trees (pathological meshes) use [`STACK_CAPACITY`], whose 8 KB memset per ray cost the
-/// dragon's random rays ~10 % when its bound first exceeded a 64-entry stack.
+/// dragon's random rays ~10 % when its bound briefly exceeded a 64-entry stack.
 const SMALL_STACK: usize = 96;
 /// The largest stack: `validate` rejects trees whose [`stack_need`] exceeds it. The
 /// binary builder's depth bound (`MAX_DEPTH` = 96) times 7 fits.
@@ -24,16 +24,13 @@ pub(super) const STACK_CAPACITY: usize = 1024;
 
 /// Entries the traversal stack can need for a tree with `levels` interior levels: each
 /// interior node visited pushes its hit children (at most `W`) and pops the nearest, so at
-/// most `W - 1` entries per level stay, plus `W` for the node being expanded, plus `W` of
-/// slack that [`Kernel::push_hits`] may write above the entries it pushes (one vector store
-/// of all `W` lanes).
+/// most `W - 1` entries per level stay, plus `W` for the node being expanded.
 pub(super) fn stack_need(levels: u32, width: usize) -> usize {
-    levels as usize * (width - 1) + 1 + width
+    levels as usize * (width - 1) + 1
 }
 
 /// A deferred child and its entry distance when it was pushed.
-#[repr(C)]
-#[derive(Clone, Copy, Default, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+#[derive(Clone, Copy, Default, Debug, PartialEq)]
 pub(super) struct Entry {
     pub node: ChildRef,
     pub t: f32,
