@@ -6,7 +6,8 @@
 //! (crates/accel/src/wbvh, `--accel bvh`, the default) is collapsed from.
 //!
 //! Files: [`params`] (presets), [`node`] (encoding), `build.rs` (parallel deterministic
-//! builder), `traverse.rs` (closest and any hit), `closest.rs` (closest-point query),
+//! builder: binning and the SAH sweep), `partition.rs` (its serial and parallel
+//! partitions), `assemble.rs` (joining the parallel subtrees), `traverse.rs` (closest and any hit), `closest.rs` (closest-point query),
 //! `refit.rs`, `validate.rs`, `reinsert.rs` (the `high_quality` presets' SAH
 //! optimisation pass).
 //!
@@ -18,6 +19,7 @@ mod build;
 mod closest;
 pub mod node;
 pub mod params;
+mod partition;
 mod refit;
 mod reinsert;
 mod traverse;
