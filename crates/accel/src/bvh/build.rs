@@ -494,11 +494,12 @@ fn bin_refs(refs: &[PrimRef], cb: &Box3, scale: Vec3A, k: usize, bins: &mut Bins
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use dynray_geom::Vec3;
 
-    fn r(x: f32, id: u32) -> PrimRef {
+    /// A point-sized reference at `x` on the x axis (partition.rs's tests use it too).
+    pub(in crate::bvh) fn r(x: f32, id: u32) -> PrimRef {
         let p = Vec3::new(x, 0.0, 0.0);
         PrimRef::new(&Aabb::new(p, p), id)
     }

@@ -104,13 +104,8 @@ pub(super) fn median_split(refs: &mut [PrimRef], axis: Option<usize>) -> Sides {
 
 #[cfg(test)]
 mod tests {
+    use super::super::build::tests::r;
     use super::*;
-    use dynray_geom::{Aabb, Vec3};
-
-    fn r(x: f32, id: u32) -> PrimRef {
-        let p = Vec3::new(x, 0.0, 0.0);
-        PrimRef::new(&Aabb::new(p, p), id)
-    }
 
     #[test]
     fn partition_keeps_every_ref_and_splits_at_the_predicate() {
