@@ -8,13 +8,14 @@
 //! and assemble.rs joins them in a fixed depth-first order.
 
 use super::assemble::{assemble, Part};
-use super::partition::{median_split, par_partition, partition};
+use super::partition::{median_split, par_partition, partition, Sides};
+use super::prim_ref::{Box3, PrimRef};
 use super::reinsert::reinsert;
 use super::{BvhNode, BvhParams};
 use crate::BuildError;
 use crate::StructureParams;
-use dynray_geom::{Aabb, Triangle, TriangleMesh};
-use glam::{UVec4, Vec3A, Vec4};
+use dynray_geom::{Triangle, TriangleMesh};
+use glam::{UVec4, Vec3A};
 use rayon::prelude::*;
 
 /// Nodes with at least this many triangles build their two subtrees with `rayon::join`.
@@ -23,7 +24,7 @@ const PARALLEL_THRESHOLD: usize = 4096;
 /// Nodes with at least this many triangles bin their triangles in parallel chunks.
 const PARALLEL_BIN_THRESHOLD: usize = 1 << 16;
 /// Chunk size of parallel binning.
-pub(super) const BIN_CHUNK: usize = 1 << 14;
+const BIN_CHUNK: usize = 1 << 14;
 /// Depth from which nodes are split at the object median instead of by the SAH. SAH
 /// splits may peel one triangle off at a time (exponentially spaced centroids); median
 /// splits halve the node, so no leaf is deeper than `SAH_DEPTH_LIMIT + 31`.
@@ -31,72 +32,6 @@ pub(super) const SAH_DEPTH_LIMIT: u32 = 64;
 /// Deepest possible leaf (root = 0): the SAH limit plus log2 of the largest triangle count
 /// the node encoding allows (2^31).
 pub(super) const MAX_DEPTH: u32 = SAH_DEPTH_LIMIT + 32;
-
-/// A box in SIMD registers (`Vec3A` = one SSE register per corner): the builder's
-/// unions run once per triangle per axis, so they are worth a vector instruction each.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct Box3 {
-    pub lo: Vec3A,
-    pub hi: Vec3A,
-}
-
-impl Box3 {
-    pub(super) const EMPTY: Box3 = Box3 { lo: Vec3A::INFINITY, hi: Vec3A::NEG_INFINITY };
-
-    #[inline(always)]
-    pub(super) fn union(&self, o: &Box3) -> Box3 {
-        Box3 { lo: self.lo.min(o.lo), hi: self.hi.max(o.hi) }
-    }
-
-    #[inline(always)]
-    pub(super) fn grow(&mut self, p: Vec3A) {
-        self.lo = self.lo.min(p);
-        self.hi = self.hi.max(p);
-    }
-
-    #[inline(always)]
-    pub(super) fn with(mut self, p: Vec3A) -> Box3 {
-        self.grow(p);
-        self
-    }
-
-    fn aabb(&self) -> Aabb {
-        Aabb::new(self.lo.into(), self.hi.into())
-    }
-}
-
-/// One triangle as the builder sees it, in 32 bytes (Embree's layout): its box, with the
-/// mesh index in the 4th lane of the low corner. The centroid is taken as `lo + hi` (twice
-/// the box centre: the scale cancels in binning), so it costs no storage; 48-byte refs with
-/// a stored vertex-mean centroid made every pass over the refs move 1.5× the bytes.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct PrimRef {
-    /// `xyz`: low corner; `w`: the mesh index's bits.
-    lo: Vec4,
-    hi: Vec3A,
-}
-
-impl PrimRef {
-    pub(super) fn new(b: &Aabb, id: u32) -> Self {
-        PrimRef { lo: Vec3A::from(b.min).extend(f32::from_bits(id)), hi: b.max.into() }
-    }
-
-    #[inline(always)]
-    pub(super) fn id(&self) -> u32 {
-        self.lo.w.to_bits()
-    }
-
-    #[inline(always)]
-    pub(super) fn bounds(&self) -> Box3 {
-        Box3 { lo: Vec3A::from_vec4(self.lo), hi: self.hi }
-    }
-
-    /// Twice the box centre: what binning, partition and the median split order by.
-    #[inline(always)]
-    pub(super) fn center2(&self) -> Vec3A {
-        Vec3A::from_vec4(self.lo) + self.hi
-    }
-}
 
 /// SAH bins of all three axes, bin-major (Embree's layout): per bin, the three axes' boxes
 /// and counts (a bin holds the triangles whose centroid falls into one slice of the
@@ -269,15 +204,6 @@ struct Builder<'a> {
     sah_depth_limit: u32,
     /// Leaves are costed in blocks of `2^block_shift` triangles (0: per triangle).
     block_shift: u32,
-}
-
-/// A node's two sides after its split: counts, boxes and centroid boxes.
-pub(super) struct Sides {
-    pub nl: usize,
-    pub lb: Box3,
-    pub rb: Box3,
-    pub lc: Box3,
-    pub rc: Box3,
 }
 
 impl Builder<'_> {
@@ -496,7 +422,7 @@ fn bin_refs(refs: &[PrimRef], cb: &Box3, scale: Vec3A, k: usize, bins: &mut Bins
 #[cfg(test)]
 pub(super) mod tests {
     use super::*;
-    use dynray_geom::Vec3;
+    use dynray_geom::{Aabb, Vec3};
 
     /// A point-sized reference at `x` on the x axis (partition.rs's tests use it too).
     pub(in crate::bvh) fn r(x: f32, id: u32) -> PrimRef {

@@ -7,7 +7,7 @@
 //!
 //! Files: [`params`] (presets), [`node`] (encoding), `build.rs` (parallel deterministic
 //! builder: binning and the SAH sweep), `partition.rs` (its serial and parallel
-//! partitions), `assemble.rs` (joining the parallel subtrees), `traverse.rs` (closest and any hit), `closest.rs` (closest-point query),
+//! partitions), `prim_ref.rs` (the 32-byte triangle references they move), `assemble.rs` (joining the parallel subtrees), `traverse.rs` (closest and any hit), `closest.rs` (closest-point query),
 //! `refit.rs`, `validate.rs`, `reinsert.rs` (the `high_quality` presets' SAH
 //! optimisation pass).
 //!
@@ -20,6 +20,7 @@ mod closest;
 pub mod node;
 pub mod params;
 mod partition;
+mod prim_ref;
 mod refit;
 mod reinsert;
 mod traverse;

@@ -1,9 +1,22 @@
 //! Seed 003 Algorithm 2.2: dividing a node's primitive references between its two sides,
 //! on one thread (Hoare) or, for the large nodes at the top, on all of them.
 
-use super::build::{Box3, PrimRef, Sides, BIN_CHUNK};
+use super::prim_ref::{Box3, PrimRef};
 use glam::Vec3A;
 use rayon::prelude::*;
+
+/// Refs per chunk of the parallel partition: fixed, so the chunking and not the thread
+/// count decides the result.
+pub(super) const CHUNK: usize = 1 << 14;
+
+/// A node's two sides after its split: counts, boxes and centroid boxes.
+pub(super) struct Sides {
+    pub nl: usize,
+    pub lb: Box3,
+    pub rb: Box3,
+    pub lc: Box3,
+    pub rc: Box3,
+}
 
 /// Seed 003 Algorithm 2.2: Hoare-style in-place partition by the centroid predicate
 /// `is_left`. Returns the number of left refs (they end up first) and the centroid boxes
@@ -41,13 +54,13 @@ pub(super) fn partition(refs: &mut [PrimRef], is_left: impl Fn(Vec3A) -> bool) -
 }
 
 /// [`partition`] of a large node on all threads (issue 11: the root's 871k dragon refs were
-/// partitioned by one thread while the other waited). Each fixed `BIN_CHUNK` chunk is
+/// partitioned by one thread while the other waited). Each fixed `CHUNK` chunk is
 /// partitioned in place in parallel, then the rights that lie below the final split point
 /// are swapped, in parallel pieces, with the lefts above it (Embree's parallel in-place
 /// partition). The chunking, not the thread count, fixes the result, so builds stay
 /// deterministic; each side holds the same refs as after [`partition`], in another order.
 pub(super) fn par_partition(refs: &mut [PrimRef], is_left: impl Fn(Vec3A) -> bool + Sync) -> (usize, Box3, Box3) {
-    let parts: Vec<(usize, Box3, Box3)> = refs.par_chunks_mut(BIN_CHUNK).map(|c| partition(c, &is_left)).collect();
+    let parts: Vec<(usize, Box3, Box3)> = refs.par_chunks_mut(CHUNK).map(|c| partition(c, &is_left)).collect();
     let n = refs.len();
     let nl: usize = parts.iter().map(|p| p.0).sum();
     let (lc, rc) = parts.iter().fold((Box3::EMPTY, Box3::EMPTY), |(l, r), p| (l.union(&p.1), r.union(&p.2)));
@@ -55,8 +68,8 @@ pub(super) fn par_partition(refs: &mut [PrimRef], is_left: impl Fn(Vec3A) -> boo
     // equally many refs (the rights below nl are nl minus the lefts below it).
     let (mut rights_low, mut lefts_high) = (Vec::new(), Vec::new());
     for (i, p) in parts.iter().enumerate() {
-        let start = i * BIN_CHUNK;
-        let (mid, end) = (start + p.0, (start + BIN_CHUNK).min(n));
+        let start = i * CHUNK;
+        let (mid, end) = (start + p.0, (start + CHUNK).min(n));
         if mid > nl.max(start) {
             lefts_high.push(nl.max(start)..mid);
         }
@@ -64,7 +77,7 @@ pub(super) fn par_partition(refs: &mut [PrimRef], is_left: impl Fn(Vec3A) -> boo
             rights_low.push(mid..nl.min(end));
         }
     }
-    // Pair them into equal pieces of at most BIN_CHUNK refs, cut off the two halves in
+    // Pair them into equal pieces of at most CHUNK refs, cut off the two halves in
     // ascending order (disjoint `&mut` slices without unsafe).
     let (mut low, mut high) = refs.split_at_mut(nl);
     let (mut low_at, mut high_at) = (0, nl);
@@ -72,7 +85,7 @@ pub(super) fn par_partition(refs: &mut [PrimRef], is_left: impl Fn(Vec3A) -> boo
     let (mut ra, mut rb) = (rights_low.into_iter(), lefts_high.into_iter());
     let (mut a, mut b) = (ra.next(), rb.next());
     while let (Some(x), Some(y)) = (a.clone(), b.clone()) {
-        let len = x.len().min(y.len()).min(BIN_CHUNK);
+        let len = x.len().min(y.len()).min(CHUNK);
         let (_, rest) = std::mem::take(&mut low).split_at_mut(x.start - low_at);
         let (pa, rest) = rest.split_at_mut(len);
         (low, low_at) = (rest, x.start + len);
@@ -125,13 +138,13 @@ mod tests {
     /// same centroid boxes, whatever the chunks' mix (all left, all right, mixed).
     #[test]
     fn par_partition_matches_partition() {
-        let n = 3 * BIN_CHUNK + 1234;
+        let n = 3 * CHUNK + 1234;
         let v: Vec<PrimRef> = (0..n as u32).map(|i| r((i.wrapping_mul(2_654_435_761) % 1000) as f32, i)).collect();
         for cut in [-1.0, 300.0, 1001.0, 1999.0, 2500.0] {
             // The first chunk is all at 0: all left or all right of the other chunks' mix.
             let pred = |c: Vec3A| c.x < cut;
             let mut a = v.clone();
-            a[..BIN_CHUNK].iter_mut().for_each(|p| *p = r(0.0, p.id()));
+            a[..CHUNK].iter_mut().for_each(|p| *p = r(0.0, p.id()));
             let mut b = a.clone();
             let (sa, sb) = (partition(&mut a, pred), par_partition(&mut b, pred));
             assert_eq!(sa.0, sb.0, "cut {cut}");

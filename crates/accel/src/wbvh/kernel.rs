@@ -5,8 +5,7 @@
 //! and the tests below hold both to the same bits.
 
 use super::block::{TriBlock, LANES, PAD_ID};
-use super::node::WideNode;
-use super::traverse::Entry;
+use super::node::{ChildRef, WideNode};
 use dynray_geom::{Hit, PreparedRay, Ray, SLAB_MARGIN};
 
 /// What the box test needs of a ray: origin and `1 / dir` (as `PreparedRay::inv_dir`).
@@ -34,6 +33,13 @@ impl BoxRay {
     pub fn from_parts(org: [f32; 3], inv: [f32; 3]) -> Self {
         Self { org, inv, neg: inv.map(|x| x.is_sign_negative()) }
     }
+}
+
+/// A deferred child on the traversal stack and its entry distance when it was pushed.
+#[derive(Clone, Copy, Default, Debug, PartialEq)]
+pub(super) struct Entry {
+    pub node: ChildRef,
+    pub t: f32,
 }
 
 /// Near distances of a node's children, one lane per child.
@@ -216,6 +222,15 @@ impl KernelRequest {
     }
 }
 
+/// True when this CPU runs the AVX-512 kernel: AVX2, AVX-512 F (the 512-bit f64 lanes) and
+/// AVX-512 VL (mask compares on 256-bit registers).
+#[cfg(target_arch = "x86_64")]
+pub(super) fn avx512_available() -> bool {
+    std::arch::is_x86_feature_detected!("avx2")
+        && std::arch::is_x86_feature_detected!("avx512f")
+        && std::arch::is_x86_feature_detected!("avx512vl")
+}
+
 /// The environment variable that forces the scalar kernel on `kernel=auto` builds
 /// (`DYNRAY_FORCE_SCALAR=1`), so a CI run on an AVX2 machine tests the fallback too.
 pub const FORCE_SCALAR_ENV: &str = "DYNRAY_FORCE_SCALAR";
@@ -229,7 +244,7 @@ impl KernelChoice {
         }
         #[cfg(target_arch = "x86_64")]
         {
-            if super::kernel_avx512::available() {
+            if avx512_available() {
                 return KernelChoice::Avx512;
             }
             if std::arch::is_x86_feature_detected!("avx2") {
@@ -242,7 +257,7 @@ impl KernelChoice {
     /// The kernel `req` names, or why this CPU cannot run it.
     pub fn resolve(req: KernelRequest) -> Result<Self, String> {
         #[cfg(target_arch = "x86_64")]
-        let (avx2, avx512) = (std::arch::is_x86_feature_detected!("avx2"), super::kernel_avx512::available());
+        let (avx2, avx512) = (std::arch::is_x86_feature_detected!("avx2"), avx512_available());
         #[cfg(not(target_arch = "x86_64"))]
         let (avx2, avx512) = (false, false);
         match req {
@@ -402,8 +417,8 @@ mod tests {
     #[cfg(target_arch = "x86_64")]
     #[test]
     fn avx512_leaves_are_bit_identical_to_the_scalar_test() {
-        use super::super::kernel_avx512::{available, Avx512};
-        if !available() {
+        use super::super::kernel_avx512::Avx512;
+        if !avx512_available() {
             eprintln!("skipped: this CPU lacks AVX-512 F and VL");
             return;
         }
@@ -459,7 +474,7 @@ mod tests {
                 assert!(!Avx2::closest_checked(&pad, &r, Hit::MISS).is_hit());
             }
             #[cfg(target_arch = "x86_64")]
-            if super::super::kernel_avx512::available() {
+            if avx512_available() {
                 use super::super::kernel_avx512::Avx512;
                 let pair = [pad, pad];
                 assert!(!Avx512::any_leaf_checked(&pair, &r));
@@ -532,8 +547,8 @@ mod tests {
     #[cfg(target_arch = "x86_64")]
     #[test]
     fn avx512_box_test_matches_aabb_clip() {
-        use super::super::kernel_avx512::{available, Avx512};
-        if !available() {
+        use super::super::kernel_avx512::Avx512;
+        if !avx512_available() {
             eprintln!("skipped: this CPU lacks AVX-512 F and VL");
             return;
         }

@@ -261,7 +261,7 @@ impl Kernel for Avx512 {
 }
 
 /// Entry points for the tests, compiled with AVX-512 so the kernels inline as they do in
-/// traversal. Callers check [`available`] first.
+/// traversal. Callers check `kernel::avx512_available` first.
 #[cfg(test)]
 impl Avx512 {
     pub(super) fn closest_leaf_checked(blocks: &[TriBlock], r: &PreparedRay, start: Hit) -> Hit {
@@ -270,7 +270,7 @@ impl Avx512 {
             Avx512::closest_leaf(blocks, r, &mut h);
             h
         }
-        assert!(available());
+        assert!(super::kernel::avx512_available());
         // SAFETY: the features were checked on the line above.
         unsafe { go(blocks, r, start) }
     }
@@ -280,7 +280,7 @@ impl Avx512 {
         fn go(blocks: &[TriBlock], r: &PreparedRay) -> bool {
             Avx512::any_leaf(blocks, r)
         }
-        assert!(available());
+        assert!(super::kernel::avx512_available());
         // SAFETY: the features were checked on the line above.
         unsafe { go(blocks, r) }
     }
@@ -290,14 +290,8 @@ impl Avx512 {
         fn go<N: WideNode>(node: &N, r: &BoxRay, tmin: f32, limit: f32, near: &mut Nears) -> u32 {
             Avx512::boxes(node, r, tmin, limit, near)
         }
-        assert!(available());
+        assert!(super::kernel::avx512_available());
         // SAFETY: the features were checked on the line above.
         unsafe { go(node, r, tmin, limit, near) }
     }
-}
-
-/// True when this CPU runs the kernel: AVX2, AVX-512 F (the 512-bit f64 lanes) and
-/// AVX-512 VL (mask compares on 256-bit registers).
-pub fn available() -> bool {
-    is_x86_feature_detected!("avx2") && is_x86_feature_detected!("avx512f") && is_x86_feature_detected!("avx512vl")
 }

@@ -5,6 +5,7 @@
 //! and AVX-512 entry points below are the same code compiled with `#[target_feature]`, so
 //! the kernel's intrinsics and the traversal loop inline into one function.
 
+pub(super) use super::kernel::Entry;
 #[cfg(target_arch = "x86_64")]
 use super::kernel::KernelChoice;
 use super::kernel::{BoxRay, Kernel, Nears, Scalar};
@@ -27,13 +28,6 @@ pub(super) const STACK_CAPACITY: usize = 1024;
 /// most `W - 1` entries per level stay, plus `W` for the node being expanded.
 pub(super) fn stack_need(levels: u32, width: usize) -> usize {
     levels as usize * (width - 1) + 1
-}
-
-/// A deferred child and its entry distance when it was pushed.
-#[derive(Clone, Copy, Default, Debug, PartialEq)]
-pub(super) struct Entry {
-    pub node: ChildRef,
-    pub t: f32,
 }
 
 /// Where a single-ray walk starts and what it tests with: the subtree, the ray, its box
