@@ -5,7 +5,7 @@
 //! and the tests below hold both to the same bits.
 
 use super::block::{TriBlock, LANES, PAD_ID};
-use super::node::{ChildRef, WideNode};
+use super::node::WideNode;
 use dynray_geom::{Hit, PreparedRay, Ray, SLAB_MARGIN};
 
 /// What the box test needs of a ray: origin and `1 / dir` (as `PreparedRay::inv_dir`).
@@ -33,13 +33,6 @@ impl BoxRay {
     pub fn from_parts(org: [f32; 3], inv: [f32; 3]) -> Self {
         Self { org, inv, neg: inv.map(|x| x.is_sign_negative()) }
     }
-}
-
-/// A deferred child on the traversal stack and its entry distance when it was pushed.
-#[derive(Clone, Copy, Default, Debug, PartialEq)]
-pub(super) struct Entry {
-    pub node: ChildRef,
-    pub t: f32,
 }
 
 /// Near distances of a node's children, one lane per child.
@@ -80,31 +73,6 @@ pub trait Kernel {
             }
         }
         false
-    }
-
-    /// Pushes the children of `node` in `mask` (two or more), with their entry distances
-    /// from `near`, onto `stack` from `sp`, sorted so the nearest ends on top; returns the
-    /// new `sp`. Which of two equally near children comes first is the kernel's choice:
-    /// the order only steers the walk, never the answer. (A sorting network in the
-    /// AVX-512 kernel measured slower on primary rays: kernel_avx512.rs.)
-    #[inline(always)]
-    fn push_hits<N: WideNode>(node: &N, mask: u32, near: &Nears, stack: &mut [Entry], mut sp: usize) -> usize {
-        // Insertion sort: at most 8 entries, usually 2 or 3.
-        let start = sp;
-        let mut m = mask;
-        while m != 0 {
-            let i = m.trailing_zeros() as usize;
-            m &= m - 1;
-            let e = Entry { node: node.child(i), t: near[i] };
-            let mut j = sp;
-            while j > start && stack[j - 1].t < e.t {
-                stack[j] = stack[j - 1];
-                j -= 1;
-            }
-            stack[j] = e;
-            sp += 1;
-        }
-        sp
     }
 
     /// Starts loading the cache lines of `x` (a child the traversal will visit later);

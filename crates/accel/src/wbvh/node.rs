@@ -52,8 +52,6 @@ pub trait WideNode: Pod + Send + Sync + std::fmt::Debug {
     fn count(&self) -> usize;
     /// Child reference of lane `i`.
     fn child(&self, i: usize) -> ChildRef;
-    /// All `W` child references (unused lanes [`EMPTY`]).
-    fn children(&self) -> &[ChildRef];
     /// Box of lane `i`.
     fn child_box(&self, i: usize) -> Aabb;
     /// Appends a child (the caller keeps `count < W`).
@@ -110,11 +108,6 @@ macro_rules! wide_node {
             #[inline(always)]
             fn child(&self, i: usize) -> ChildRef {
                 self.child[i]
-            }
-
-            #[inline(always)]
-            fn children(&self) -> &[ChildRef] {
-                &self.child
             }
 
             fn child_box(&self, i: usize) -> Aabb {

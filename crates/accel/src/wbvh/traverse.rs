@@ -5,7 +5,6 @@
 //! and AVX-512 entry points below are the same code compiled with `#[target_feature]`, so
 //! the kernel's intrinsics and the traversal loop inline into one function.
 
-pub(super) use super::kernel::Entry;
 #[cfg(target_arch = "x86_64")]
 use super::kernel::KernelChoice;
 use super::kernel::{BoxRay, Kernel, Nears, Scalar};
@@ -28,6 +27,13 @@ pub(super) const STACK_CAPACITY: usize = 1024;
 /// most `W - 1` entries per level stay, plus `W` for the node being expanded.
 pub(super) fn stack_need(levels: u32, width: usize) -> usize {
     levels as usize * (width - 1) + 1
+}
+
+/// A deferred child and its entry distance when it was pushed.
+#[derive(Clone, Copy, Default, Debug, PartialEq)]
+pub(super) struct Entry {
+    node: ChildRef,
+    t: f32,
 }
 
 /// Where a single-ray walk starts and what it tests with: the subtree, the ray, its box
@@ -163,9 +169,24 @@ impl<N: WideNode> WideTree<N> {
                         cur = node.child(mask.trailing_zeros() as usize);
                         continue;
                     }
-                    // Push every hit child, the nearest on top, and descend into it.
+                    // Push every hit child, sort the pushed run so the nearest is on top
+                    // (insertion sort: at most 8 entries, usually 2 or 3; a sorting network
+                    // over all 8 lanes measured slower, see kernel_avx512.rs), and descend
+                    // into it.
                     let start = sp;
-                    sp = K::push_hits(node, mask, &near, stack, sp);
+                    let mut m = mask;
+                    while m != 0 {
+                        let i = m.trailing_zeros() as usize;
+                        m &= m - 1;
+                        let e = Entry { node: node.child(i), t: near[i] };
+                        let mut j = sp;
+                        while j > start && stack[j - 1].t < e.t {
+                            stack[j] = stack[j - 1];
+                            j -= 1;
+                        }
+                        stack[j] = e;
+                        sp += 1;
+                    }
                     // The deferred children's first cache misses overlap the work on the
                     // nearest one (the traversal is bound by node and block loads).
                     for e in &stack[start..sp - 1] {
