@@ -34,6 +34,26 @@ pub trait Accel: Send + Sync + std::any::Any {
         }
     }
 
+    /// Closest hits of independent rays (any origins and directions) on the calling
+    /// thread: `hits[i]` is exactly [`Accel::intersect`] of `rays[i]`. The default traces
+    /// them one at a time; a structure may keep several rays in flight so that their
+    /// memory waits overlap. Callers parallelise over batches, as the blanket
+    /// [`crate::BatchQuery`] does. Panics unless the lengths match.
+    fn intersect_stream_into(&self, rays: &[Ray], hits: &mut [Hit]) {
+        crate::batch::check_batch_lengths(rays.len(), hits.len());
+        for (r, h) in rays.iter().zip(hits) {
+            *h = self.intersect(r);
+        }
+    }
+
+    /// [`Accel::occluded`] of every ray into `out`, as [`Accel::intersect_stream_into`].
+    fn occluded_stream_into(&self, rays: &[Ray], out: &mut [bool]) {
+        crate::batch::check_batch_lengths(rays.len(), out.len());
+        for (r, o) in rays.iter().zip(out) {
+            *o = self.occluded(r);
+        }
+    }
+
     /// True when [`Accel::intersect_coherent_into`] traces packets rather than one ray at
     /// a time (the bench measures the packet path only then).
     fn traces_packets(&self) -> bool {

@@ -49,20 +49,16 @@ pub fn check_batch_lengths(rays: usize, answers: usize) {
 impl<T: Accel + ?Sized> BatchQuery for T {
     fn intersect_into(&self, rays: &[Ray], hits: &mut [Hit]) {
         check_batch_lengths(rays.len(), hits.len());
-        rays.par_chunks(BATCH_CHUNK).zip(hits.par_chunks_mut(BATCH_CHUNK)).for_each(|(rs, hs)| {
-            for (r, h) in rs.iter().zip(hs) {
-                *h = self.intersect(r);
-            }
-        });
+        rays.par_chunks(BATCH_CHUNK)
+            .zip(hits.par_chunks_mut(BATCH_CHUNK))
+            .for_each(|(rs, hs)| self.intersect_stream_into(rs, hs));
     }
 
     fn occluded_into(&self, rays: &[Ray], out: &mut [bool]) {
         check_batch_lengths(rays.len(), out.len());
-        rays.par_chunks(BATCH_CHUNK).zip(out.par_chunks_mut(BATCH_CHUNK)).for_each(|(rs, os)| {
-            for (r, o) in rs.iter().zip(os) {
-                *o = self.occluded(r);
-            }
-        });
+        rays.par_chunks(BATCH_CHUNK)
+            .zip(out.par_chunks_mut(BATCH_CHUNK))
+            .for_each(|(rs, os)| self.occluded_stream_into(rs, os));
     }
 }
 

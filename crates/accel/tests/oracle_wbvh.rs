@@ -52,6 +52,34 @@ fn every_width_and_kernel_matches_brute_on_the_dragon() {
     check_variants(&mesh, &dragon_rays(&mesh), "dragon_res2");
 }
 
+/// Batches traced with several rays in flight (stream.rs) and one ray at a time give
+/// brute force's answers, whatever the kernel; batches smaller than the rays in flight
+/// and rays that finish at different steps included.
+#[test]
+fn interleaved_and_one_at_a_time_batches_match_brute() {
+    let mesh = bunny();
+    let rays = bunny_rays(&mesh);
+    for k in KernelRequest::runnable() {
+        for il in ["on", "off"] {
+            let v = format!("bvh:kernel={},interleave={il}", k.name());
+            let a = build(&v, &mesh);
+            assert_matches_oracle(a.as_ref(), &mesh, &rays, &v);
+            for n in 0..=5 {
+                let (got, occ) = (a.intersect_batch(&rays[..n]), a.occluded_batch(&rays[..n]));
+                for (i, r) in rays[..n].iter().enumerate() {
+                    let want = a.intersect(r);
+                    assert_eq!(
+                        (got[i].prim, got[i].t.to_bits()),
+                        (want.prim, want.t.to_bits()),
+                        "{v}: {n} rays, ray {i}"
+                    );
+                    assert_eq!(occ[i], a.occluded(r), "{v}: {n} rays, ray {i}");
+                }
+            }
+        }
+    }
+}
+
 #[test]
 fn each_kernel_is_what_kernel_asks_for() {
     let mesh = bunny();

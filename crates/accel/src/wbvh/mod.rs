@@ -29,6 +29,7 @@ mod packet_traverse;
 pub mod params;
 mod refit;
 pub(crate) mod scan;
+mod stream;
 mod traverse;
 mod validate;
 
@@ -37,6 +38,7 @@ pub use kernel::{KernelRequest, FORCE_SCALAR_ENV};
 pub use node::{Node4, Node8, WideNode};
 pub use packet::PACKET;
 pub use params::WbvhParams;
+pub use stream::{looks_coherent, Interleave};
 pub use validate::InvalidWbvh;
 
 use crate::{Accel, AccelStats, BuildError, Bvh, BvhNode, InvalidStructure, NoCount, TraversalCounts};
@@ -206,6 +208,30 @@ impl Accel for Wbvh {
 
     fn traces_packets(&self) -> bool {
         true
+    }
+
+    /// [`stream::IN_FLIGHT`] rays interleaved per thread (stream.rs) where
+    /// `interleave=` says so: by default, when the batch does not look coherent.
+    fn intersect_stream_into(&self, rays: &[Ray], hits: &mut [Hit]) {
+        if self.params.interleave.applies(rays) {
+            with_tree!(self, t => t.closest_stream(rays, hits))
+        } else {
+            crate::batch::check_batch_lengths(rays.len(), hits.len());
+            for (r, h) in rays.iter().zip(hits) {
+                *h = self.intersect(r);
+            }
+        }
+    }
+
+    fn occluded_stream_into(&self, rays: &[Ray], out: &mut [bool]) {
+        if self.params.interleave.applies(rays) {
+            with_tree!(self, t => t.any_stream(rays, out))
+        } else {
+            crate::batch::check_batch_lengths(rays.len(), out.len());
+            for (r, o) in rays.iter().zip(out) {
+                *o = self.occluded(r);
+            }
+        }
     }
 
     /// Counts interior nodes visited and triangle lanes tested (4 per block, padding

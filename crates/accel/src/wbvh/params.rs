@@ -2,6 +2,7 @@
 //! model, and the kernel, with presets.
 
 use super::kernel::KernelRequest;
+use super::stream::Interleave;
 use crate::structure_params::{out_of_range, unknown_key, value, ParamKey, StructureParams};
 use crate::{BuildError, BvhParams};
 
@@ -20,6 +21,9 @@ pub struct WbvhParams {
     /// The kernel: `Auto` (the fastest the CPU runs) or one named (the tests of each; a
     /// build fails where the CPU lacks it). `DYNRAY_FORCE_SCALAR=1` sends `Auto` to scalar.
     pub kernel: KernelRequest,
+    /// When batches of independent rays keep several in flight per thread (stream.rs):
+    /// `Auto` for batches that do not look coherent. Same answers either way.
+    pub interleave: Interleave,
 }
 
 impl WbvhParams {
@@ -52,6 +56,7 @@ impl Default for WbvhParams {
             },
             block_cost: true,
             kernel: KernelRequest::Auto,
+            interleave: Interleave::Auto,
         }
     }
 }
@@ -66,6 +71,10 @@ impl StructureParams for WbvhParams {
         ParamKey { name: "block_cost", doc: "SAH leaf cost in 4-triangle blocks, on/off (default on)" },
         ParamKey { name: "traversal_cost", doc: "SAH K_T, (0, 1000] (default 1)" },
         ParamKey { name: "intersection_cost", doc: "SAH K_I, (0, 1000] (default 1)" },
+        ParamKey {
+            name: "interleave",
+            doc: "batches of rays keep several in flight per thread: auto (when they do not look coherent), on, off (default auto)",
+        },
         ParamKey {
             name: "reinsert",
             doc: "move subtrees to lower the SAH cost before the collapse, on/off (default off)",
@@ -88,6 +97,10 @@ impl StructureParams for WbvhParams {
             "traversal_cost" => self.bvh.traversal_cost = value::f32(s, key, v)?,
             "intersection_cost" => self.bvh.intersection_cost = value::f32(s, key, v)?,
             "reinsert" => self.bvh.reinsert = value::bool(s, key, v)?,
+            "interleave" => {
+                let i = value::choice(s, key, v, &Interleave::NAMES, "auto, on or off")?;
+                self.interleave = Interleave::from_index(i);
+            }
             "kernel" => {
                 let i = value::choice(s, key, v, &KernelRequest::NAMES, "auto, avx512, avx2 or scalar")?;
                 self.kernel = KernelRequest::from_index(i);

@@ -17,7 +17,7 @@ use dynray_geom::{Hit, PreparedRay, Ray};
 /// ray, enough for 13 levels of an 8-wide tree (the 871k-triangle dragon has 9). Deeper
 /// trees (pathological meshes) use [`STACK_CAPACITY`], whose 8 KB memset per ray cost the
 /// dragon's random rays ~10 % when its bound briefly exceeded a 64-entry stack.
-const SMALL_STACK: usize = 96;
+pub(super) const SMALL_STACK: usize = 96;
 /// The largest stack: `validate` rejects trees whose [`stack_need`] exceeds it. The
 /// binary builder's depth bound (`MAX_DEPTH` = 96) times 7 fits.
 pub(super) const STACK_CAPACITY: usize = 1024;
@@ -32,8 +32,8 @@ pub(super) fn stack_need(levels: u32, width: usize) -> usize {
 /// A deferred child and its entry distance when it was pushed.
 #[derive(Clone, Copy, Default, Debug, PartialEq)]
 pub(super) struct Entry {
-    node: ChildRef,
-    t: f32,
+    pub node: ChildRef,
+    pub t: f32,
 }
 
 /// Where a single-ray walk starts and what it tests with: the subtree, the ray, its box
