@@ -43,6 +43,12 @@ pub trait Kernel {
     /// Children of `node` whose widened box the ray enters within `[tmin, limit]`, as a
     /// bit mask over lanes `0..node.count()`, with their entry distances in `near`. The
     /// same test as `Aabb::clip` lane by lane (see [`Scalar::boxes`]).
+    ///
+    /// Where `tmin >= 0` the SIMD kernels widen without looking at signs, `near × (1 − m)`
+    /// and `far × (1 + m)`, and get the same mask and the same `near` bits
+    /// (the test `nonnegative_tmin_needs_no_sign_pick`): a near distance `≤ 0` is replaced by
+    /// `tmin` either way (or is ±0, which both factors keep), and a far distance `< 0`
+    /// rejects the box either way, since the clamped near distance is `≥ 0`.
     fn boxes<N: WideNode>(node: &N, r: &BoxRay, tmin: f32, limit: f32, near: &mut Nears) -> u32;
 
     /// Keeps in `best` the closest hit of `best` and the block's triangles, as
@@ -476,8 +482,9 @@ mod tests {
                 };
                 (v(&mut rng), v(&mut rng))
             };
-            let tmin = [0.0, -1.0, f32::NEG_INFINITY, 0.5][i % 4];
-            let limit = [f32::INFINITY, 1.0, 3.0, 0.25][(i / 4) % 4];
+            // Both widenings of the SIMD kernels: `tmin >= 0` (the first, fourth and fifth) and not.
+            let tmin = [0.0, -1.0, f32::NEG_INFINITY, 0.5, -0.0, f32::NAN][i % 6];
+            let limit = [f32::INFINITY, 1.0, 3.0, 0.25][(i / 6) % 4];
             let ray = Ray::with_interval(o, d, tmin, limit);
             let pr = PreparedRay::new(&ray);
             let mut near = [0.0; 8];
@@ -491,6 +498,39 @@ mod tests {
                 }
             }
             assert_eq!(mask >> boxes.len(), 0, "unused lanes must never be entered");
+        }
+    }
+
+    /// The claim of `Kernel::boxes`: with `tmin >= 0`, widening near by `1 − m` and far by
+    /// `1 + m` whatever their signs gives the sign-picked widening's mask and near bits.
+    #[test]
+    fn nonnegative_tmin_needs_no_sign_pick() {
+        let (lo_m, hi_m) = (1.0 - SLAB_MARGIN, 1.0 + SLAB_MARGIN);
+        let picked = |n: f32, f: f32, tmin: f32, limit: f32| {
+            let n = n * if n > 0.0 { lo_m } else { hi_m };
+            let f = f * if f > 0.0 { hi_m } else { lo_m };
+            let n = if tmin > n { tmin } else { n };
+            let f = if limit < f { limit } else { f };
+            (n.to_bits(), n <= f)
+        };
+        let plain = |n: f32, f: f32, tmin: f32, limit: f32| {
+            let (n, f) = (n * lo_m, f * hi_m);
+            let n = if tmin > n { tmin } else { n };
+            let f = if limit < f { limit } else { f };
+            (n.to_bits(), n <= f)
+        };
+        let mut rng = SmallRng::seed_from_u64(9);
+        let special = [0.0, -0.0, 1e-30, -1e-30, 1e-45, -1e-45, 0.5, -0.5, 3.0, -3.0, f32::INFINITY, f32::NEG_INFINITY];
+        let mut values: Vec<f32> = special.to_vec();
+        values.extend((0..200).map(|_| rng.gen_range(-10.0f32..10.0) * 10f32.powi(rng.gen_range(-8..8))));
+        for &tmin in &[0.0, -0.0, 1e-30, 0.5, 3.0] {
+            for &limit in &[f32::INFINITY, 3.0, 0.5, 0.0, -1.0, f32::NAN] {
+                for &n in &values {
+                    for &f in &values {
+                        assert_eq!(picked(n, f, tmin, limit), plain(n, f, tmin, limit), "n {n} f {f} tmin {tmin} limit {limit}");
+                    }
+                }
+            }
         }
     }
 

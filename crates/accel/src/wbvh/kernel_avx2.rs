@@ -177,10 +177,17 @@ impl Kernel for Avx2 {
                     n = _mm256_max_ps(tn, n);
                     f = _mm256_min_ps(tf, f);
                 }
-                let zero = _mm256_setzero_ps();
                 let (lo_m, hi_m) = (1.0 - SLAB_MARGIN, 1.0 + SLAB_MARGIN);
-                let n = widen!(_mm256_cmp_ps, _mm256_blendv_ps, _mm256_set1_ps, _mm256_mul_ps, zero, n, lo_m, hi_m);
-                let f = widen!(_mm256_cmp_ps, _mm256_blendv_ps, _mm256_set1_ps, _mm256_mul_ps, zero, f, hi_m, lo_m);
+                // The usual interval (`tmin >= 0`) needs no sign pick: see `Kernel::boxes`.
+                let (n, f) = if tmin >= 0.0 {
+                    (_mm256_mul_ps(n, _mm256_set1_ps(lo_m)), _mm256_mul_ps(f, _mm256_set1_ps(hi_m)))
+                } else {
+                    let zero = _mm256_setzero_ps();
+                    (
+                        widen!(_mm256_cmp_ps, _mm256_blendv_ps, _mm256_set1_ps, _mm256_mul_ps, zero, n, lo_m, hi_m),
+                        widen!(_mm256_cmp_ps, _mm256_blendv_ps, _mm256_set1_ps, _mm256_mul_ps, zero, f, hi_m, lo_m),
+                    )
+                };
                 // `maxps(tmin, n)` = `tmin > n ? tmin : n`; `minps(limit, f)` = `limit < f ? limit : f`.
                 let n = _mm256_max_ps(_mm256_set1_ps(tmin), n);
                 let f = _mm256_min_ps(_mm256_set1_ps(limit), f);
@@ -198,10 +205,16 @@ impl Kernel for Avx2 {
                     n = _mm_max_ps(tn, n);
                     f = _mm_min_ps(tf, f);
                 }
-                let zero = _mm_setzero_ps();
                 let (lo_m, hi_m) = (1.0 - SLAB_MARGIN, 1.0 + SLAB_MARGIN);
-                let n = widen!(_mm_cmp_ps, _mm_blendv_ps, _mm_set1_ps, _mm_mul_ps, zero, n, lo_m, hi_m);
-                let f = widen!(_mm_cmp_ps, _mm_blendv_ps, _mm_set1_ps, _mm_mul_ps, zero, f, hi_m, lo_m);
+                let (n, f) = if tmin >= 0.0 {
+                    (_mm_mul_ps(n, _mm_set1_ps(lo_m)), _mm_mul_ps(f, _mm_set1_ps(hi_m)))
+                } else {
+                    let zero = _mm_setzero_ps();
+                    (
+                        widen!(_mm_cmp_ps, _mm_blendv_ps, _mm_set1_ps, _mm_mul_ps, zero, n, lo_m, hi_m),
+                        widen!(_mm_cmp_ps, _mm_blendv_ps, _mm_set1_ps, _mm_mul_ps, zero, f, hi_m, lo_m),
+                    )
+                };
                 let n = _mm_max_ps(_mm_set1_ps(tmin), n);
                 let f = _mm_min_ps(_mm_set1_ps(limit), f);
                 let n4: [f32; 4] = cast(n);

@@ -195,13 +195,17 @@ impl Kernel for Avx512 {
                 n = _mm256_max_ps(tn, n);
                 f = _mm256_min_ps(tf, f);
             }
-            // Widen outwards: `x * (1 ∓ m)` by the sign of `x`, the factor picked by mask.
-            let zero = _mm256_setzero_ps();
+            // Widen outwards: `x * (1 ∓ m)` by the sign of `x`, the factor picked by mask;
+            // the usual interval (`tmin >= 0`) needs no pick (see `Kernel::boxes`).
             let (lo_m, hi_m) = (_mm256_set1_ps(1.0 - SLAB_MARGIN), _mm256_set1_ps(1.0 + SLAB_MARGIN));
-            let n_pos = _mm256_cmp_ps_mask::<_CMP_GT_OQ>(n, zero);
-            let f_pos = _mm256_cmp_ps_mask::<_CMP_GT_OQ>(f, zero);
-            let n = _mm256_mul_ps(n, _mm256_mask_blend_ps(n_pos, hi_m, lo_m));
-            let f = _mm256_mul_ps(f, _mm256_mask_blend_ps(f_pos, lo_m, hi_m));
+            let (n, f) = if tmin >= 0.0 {
+                (_mm256_mul_ps(n, lo_m), _mm256_mul_ps(f, hi_m))
+            } else {
+                let zero = _mm256_setzero_ps();
+                let n_pos = _mm256_cmp_ps_mask::<_CMP_GT_OQ>(n, zero);
+                let f_pos = _mm256_cmp_ps_mask::<_CMP_GT_OQ>(f, zero);
+                (_mm256_mul_ps(n, _mm256_mask_blend_ps(n_pos, hi_m, lo_m)), _mm256_mul_ps(f, _mm256_mask_blend_ps(f_pos, lo_m, hi_m)))
+            };
             let n = _mm256_max_ps(_mm256_set1_ps(tmin), n);
             let f = _mm256_min_ps(_mm256_set1_ps(limit), f);
             *near = cast(n);
