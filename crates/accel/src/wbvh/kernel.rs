@@ -527,7 +527,11 @@ mod tests {
             for &limit in &[f32::INFINITY, 3.0, 0.5, 0.0, -1.0, f32::NAN] {
                 for &n in &values {
                     for &f in &values {
-                        assert_eq!(picked(n, f, tmin, limit), plain(n, f, tmin, limit), "n {n} f {f} tmin {tmin} limit {limit}");
+                        assert_eq!(
+                            picked(n, f, tmin, limit),
+                            plain(n, f, tmin, limit),
+                            "n {n} f {f} tmin {tmin} limit {limit}"
+                        );
                     }
                 }
             }

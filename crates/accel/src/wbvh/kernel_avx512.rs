@@ -204,7 +204,10 @@ impl Kernel for Avx512 {
                 let zero = _mm256_setzero_ps();
                 let n_pos = _mm256_cmp_ps_mask::<_CMP_GT_OQ>(n, zero);
                 let f_pos = _mm256_cmp_ps_mask::<_CMP_GT_OQ>(f, zero);
-                (_mm256_mul_ps(n, _mm256_mask_blend_ps(n_pos, hi_m, lo_m)), _mm256_mul_ps(f, _mm256_mask_blend_ps(f_pos, lo_m, hi_m)))
+                (
+                    _mm256_mul_ps(n, _mm256_mask_blend_ps(n_pos, hi_m, lo_m)),
+                    _mm256_mul_ps(f, _mm256_mask_blend_ps(f_pos, lo_m, hi_m)),
+                )
             };
             let n = _mm256_max_ps(_mm256_set1_ps(tmin), n);
             let f = _mm256_min_ps(_mm256_set1_ps(limit), f);

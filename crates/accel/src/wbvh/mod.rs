@@ -211,27 +211,16 @@ impl Accel for Wbvh {
     }
 
     /// [`stream::IN_FLIGHT`] rays interleaved per thread (stream.rs) where
-    /// `interleave=` says so: by default, when the batch does not look coherent.
+    /// `interleave=` says so (by default, when the batch does not look coherent), else one
+    /// after the other on one stack.
     fn intersect_stream_into(&self, rays: &[Ray], hits: &mut [Hit]) {
-        if self.params.interleave.applies(rays) {
-            with_tree!(self, t => t.closest_stream(rays, hits))
-        } else {
-            crate::batch::check_batch_lengths(rays.len(), hits.len());
-            for (r, h) in rays.iter().zip(hits) {
-                *h = self.intersect(r);
-            }
-        }
+        let interleaved = self.params.interleave.applies(rays);
+        with_tree!(self, t => t.closest_stream(rays, hits, interleaved))
     }
 
     fn occluded_stream_into(&self, rays: &[Ray], out: &mut [bool]) {
-        if self.params.interleave.applies(rays) {
-            with_tree!(self, t => t.any_stream(rays, out))
-        } else {
-            crate::batch::check_batch_lengths(rays.len(), out.len());
-            for (r, o) in rays.iter().zip(out) {
-                *o = self.occluded(r);
-            }
-        }
+        let interleaved = self.params.interleave.applies(rays);
+        with_tree!(self, t => t.any_stream(rays, out, interleaved))
     }
 
     /// Counts interior nodes visited and triangle lanes tested (4 per block, padding

@@ -7,13 +7,18 @@
 //! ray's next node is on its way, the other rays' steps run. Each ray takes exactly the
 //! steps `traverse.rs` takes for it alone, in the same order, so every answer is
 //! [`super::WideTree::closest`]'s / `any`'s bit for bit; only the interleaving differs.
+//!
+//! Batches that are not interleaved (coherent ones under `interleave=auto`, or `off`) run
+//! the single-ray walk one ray after the other on one stack for the whole batch, which
+//! spares the per-ray stack set-up of `closest`.
 
 #[cfg(target_arch = "x86_64")]
 use super::kernel::KernelChoice;
 use super::kernel::{BoxRay, Kernel, Nears, Scalar};
 use super::node::{is_leaf, leaf_blocks, ChildRef, WideNode};
-use super::traverse::{Entry, SMALL_STACK, STACK_CAPACITY};
+use super::traverse::{Below, Entry, SMALL_STACK, STACK_CAPACITY};
 use super::WideTree;
+use crate::NoCount;
 use dynray_geom::{Hit, PreparedRay, Ray};
 
 /// One ray's walk in progress, what the single-ray loop keeps in registers.
@@ -120,77 +125,102 @@ pub fn looks_coherent(rays: &[Ray]) -> bool {
 }
 
 impl<N: WideNode> WideTree<N> {
-    /// `hits[i]` = `closest(rays[i])` for every ray, with [`IN_FLIGHT`] rays interleaved.
+    /// `hits[i]` = `closest(rays[i])` for every ray: [`IN_FLIGHT`] rays interleaved, or
+    /// (`interleaved == false`) one after the other on one stack.
     #[allow(unsafe_code)]
-    pub(super) fn closest_stream(&self, rays: &[Ray], hits: &mut [Hit]) {
+    pub(super) fn closest_stream(&self, rays: &[Ray], hits: &mut [Hit], interleaved: bool) {
         #[cfg(target_arch = "x86_64")]
         match self.kernel {
             // SAFETY: as in `WideTree::closest` (the kernel was detected at build time).
-            KernelChoice::Avx512 => return unsafe { self.closest_stream_avx512(rays, hits) },
-            KernelChoice::Avx2 => return unsafe { self.closest_stream_avx2(rays, hits) },
+            KernelChoice::Avx512 => return unsafe { self.closest_stream_avx512(rays, hits, interleaved) },
+            KernelChoice::Avx2 => return unsafe { self.closest_stream_avx2(rays, hits, interleaved) },
             KernelChoice::Scalar => {}
         }
-        self.closest_stream_sized::<Scalar>(rays, hits)
+        self.closest_stream_sized::<Scalar>(rays, hits, interleaved)
     }
 
-    /// `out[i]` = `any(rays[i])` for every ray, with [`IN_FLIGHT`] rays interleaved.
+    /// `out[i]` = `any(rays[i])` for every ray, as [`WideTree::closest_stream`].
     #[allow(unsafe_code)]
-    pub(super) fn any_stream(&self, rays: &[Ray], out: &mut [bool]) {
+    pub(super) fn any_stream(&self, rays: &[Ray], out: &mut [bool], interleaved: bool) {
         #[cfg(target_arch = "x86_64")]
         match self.kernel {
             // SAFETY: as in `closest_stream`.
-            KernelChoice::Avx512 => return unsafe { self.any_stream_avx512(rays, out) },
-            KernelChoice::Avx2 => return unsafe { self.any_stream_avx2(rays, out) },
+            KernelChoice::Avx512 => return unsafe { self.any_stream_avx512(rays, out, interleaved) },
+            KernelChoice::Avx2 => return unsafe { self.any_stream_avx2(rays, out, interleaved) },
             KernelChoice::Scalar => {}
         }
-        self.any_stream_sized::<Scalar>(rays, out)
+        self.any_stream_sized::<Scalar>(rays, out, interleaved)
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     #[allow(unsafe_code)]
-    unsafe fn closest_stream_avx2(&self, rays: &[Ray], hits: &mut [Hit]) {
-        self.closest_stream_sized::<super::kernel_avx2::Avx2>(rays, hits)
+    unsafe fn closest_stream_avx2(&self, rays: &[Ray], hits: &mut [Hit], interleaved: bool) {
+        self.closest_stream_sized::<super::kernel_avx2::Avx2>(rays, hits, interleaved)
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,avx512f,avx512vl")]
     #[allow(unsafe_code)]
-    unsafe fn closest_stream_avx512(&self, rays: &[Ray], hits: &mut [Hit]) {
-        self.closest_stream_sized::<super::kernel_avx512::Avx512>(rays, hits)
+    unsafe fn closest_stream_avx512(&self, rays: &[Ray], hits: &mut [Hit], interleaved: bool) {
+        self.closest_stream_sized::<super::kernel_avx512::Avx512>(rays, hits, interleaved)
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     #[allow(unsafe_code)]
-    unsafe fn any_stream_avx2(&self, rays: &[Ray], out: &mut [bool]) {
-        self.any_stream_sized::<super::kernel_avx2::Avx2>(rays, out)
+    unsafe fn any_stream_avx2(&self, rays: &[Ray], out: &mut [bool], interleaved: bool) {
+        self.any_stream_sized::<super::kernel_avx2::Avx2>(rays, out, interleaved)
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,avx512f,avx512vl")]
     #[allow(unsafe_code)]
-    unsafe fn any_stream_avx512(&self, rays: &[Ray], out: &mut [bool]) {
-        self.any_stream_sized::<super::kernel_avx512::Avx512>(rays, out)
+    unsafe fn any_stream_avx512(&self, rays: &[Ray], out: &mut [bool], interleaved: bool) {
+        self.any_stream_sized::<super::kernel_avx512::Avx512>(rays, out, interleaved)
     }
 
     #[inline(always)]
-    fn closest_stream_sized<K: Kernel>(&self, rays: &[Ray], hits: &mut [Hit]) {
+    fn closest_stream_sized<K: Kernel>(&self, rays: &[Ray], hits: &mut [Hit], interleaved: bool) {
         crate::batch::check_batch_lengths(rays.len(), hits.len());
-        if self.stack_need <= SMALL_STACK {
-            self.closest_stream_with::<K, SMALL_STACK>(rays, hits)
-        } else {
-            self.closest_stream_with::<K, STACK_CAPACITY>(rays, hits)
+        match (interleaved, self.stack_need <= SMALL_STACK) {
+            (true, true) => self.closest_stream_with::<K, SMALL_STACK>(rays, hits),
+            (true, false) => self.closest_stream_with::<K, STACK_CAPACITY>(rays, hits),
+            (false, true) => self.closest_each_with::<K, SMALL_STACK>(rays, hits),
+            (false, false) => self.closest_each_with::<K, STACK_CAPACITY>(rays, hits),
+        }
+    }
+
+    /// One ray after the other, as `closest` walks each, on one stack for the batch
+    /// (`closest` sets up a stack per ray).
+    #[inline(always)]
+    fn closest_each_with<K: Kernel, const S: usize>(&self, rays: &[Ray], hits: &mut [Hit]) {
+        let mut stack = [Entry::default(); S];
+        for (ray, hit) in rays.iter().zip(hits) {
+            let mut pr = None;
+            *hit = Hit::MISS;
+            let b = Below { root: 0, ray, br: &BoxRay::new(ray), tmin: ray.tmin, tmax: ray.tmax };
+            self.closest_below::<K, NoCount>(&b, &mut pr, hit, &mut stack, &mut NoCount);
         }
     }
 
     #[inline(always)]
-    fn any_stream_sized<K: Kernel>(&self, rays: &[Ray], out: &mut [bool]) {
+    fn any_stream_sized<K: Kernel>(&self, rays: &[Ray], out: &mut [bool], interleaved: bool) {
         crate::batch::check_batch_lengths(rays.len(), out.len());
-        if self.stack_need <= SMALL_STACK {
-            self.any_stream_with::<K, SMALL_STACK>(rays, out)
-        } else {
-            self.any_stream_with::<K, STACK_CAPACITY>(rays, out)
+        match (interleaved, self.stack_need <= SMALL_STACK) {
+            (true, true) => self.any_stream_with::<K, SMALL_STACK>(rays, out),
+            (true, false) => self.any_stream_with::<K, STACK_CAPACITY>(rays, out),
+            (false, true) => self.any_each_with::<K, SMALL_STACK>(rays, out),
+            (false, false) => self.any_each_with::<K, STACK_CAPACITY>(rays, out),
+        }
+    }
+
+    /// One ray after the other on one stack, as [`WideTree::closest_each_with`].
+    #[inline(always)]
+    fn any_each_with<K: Kernel, const S: usize>(&self, rays: &[Ray], out: &mut [bool]) {
+        let mut stack = [0 as ChildRef; S];
+        for (ray, o) in rays.iter().zip(out) {
+            *o = self.any_on::<K, NoCount>(ray, &mut stack, &mut NoCount);
         }
     }
 

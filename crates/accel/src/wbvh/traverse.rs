@@ -229,10 +229,15 @@ impl<N: WideNode> WideTree<N> {
     /// are not sorted: any hit ends the walk, so order buys little.
     #[inline(always)]
     fn any_with<K: Kernel, C: Counter, const S: usize>(&self, ray: &Ray, c: &mut C) -> bool {
+        self.any_on::<K, C>(ray, &mut [0 as ChildRef; S], c)
+    }
+
+    /// The any-hit walk of `ray` on `stack` (at least `stack_need` entries).
+    #[inline(always)]
+    pub(super) fn any_on<K: Kernel, C: Counter>(&self, ray: &Ray, stack: &mut [ChildRef], c: &mut C) -> bool {
         let br = BoxRay::new(ray);
         let (tmin, tmax) = (ray.tmin, ray.tmax);
         let mut pr: Option<PreparedRay> = None;
-        let mut stack = [0 as ChildRef; S];
         let mut sp = 0usize;
         let mut near: Nears = [0.0; 8];
         let mut cur: ChildRef = 0;
