@@ -16,7 +16,7 @@
 use super::kernel::KernelChoice;
 use super::kernel::{BoxRay, Kernel, Nears, Scalar};
 use super::node::{is_leaf, leaf_blocks, ChildRef, WideNode};
-use super::traverse::{Below, Entry, SMALL_STACK, STACK_CAPACITY};
+use super::traverse::{push_hits, Below, Entry, SMALL_STACK, STACK_CAPACITY};
 use super::WideTree;
 use crate::NoCount;
 use dynray_geom::{Hit, PreparedRay, Ray};
@@ -300,25 +300,11 @@ impl<N: WideNode> WideTree<N> {
                     return true;
                 }
                 let start = w.sp;
-                let mut sp = w.sp;
-                let mut m = mask;
-                while m != 0 {
-                    let i = m.trailing_zeros() as usize;
-                    m &= m - 1;
-                    let e = Entry { node: node.child(i), t: near[i] };
-                    let mut j = sp;
-                    while j > start && w.stack[j - 1].t < e.t {
-                        w.stack[j] = w.stack[j - 1];
-                        j -= 1;
-                    }
-                    w.stack[j] = e;
-                    sp += 1;
-                }
-                for e in &w.stack[start..sp] {
+                w.cur = push_hits(node, mask, &near, &mut w.stack, &mut w.sp);
+                for e in &w.stack[start..w.sp] {
                     self.prefetch_child::<K>(e.node);
                 }
-                w.sp = sp - 1;
-                w.cur = w.stack[w.sp].node;
+                self.prefetch_child::<K>(w.cur);
                 return true;
             }
         }
