@@ -61,7 +61,10 @@ pub struct PreparedRay {
 }
 
 impl PreparedRay {
-    /// Computes the per-ray constants.
+    /// Computes the per-ray constants. `#[inline]` so the wide BVH's walks (another crate,
+    /// compiled for AVX2/AVX-512) take it inline at their first leaf: out of line it was
+    /// ~8 % of the bunny's shadow and diffuse traversal profile.
+    #[inline]
     pub fn new(ray: &Ray) -> Self {
         let d = ray.dir;
         let a = d.abs();
