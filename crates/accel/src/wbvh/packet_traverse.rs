@@ -129,7 +129,7 @@ impl<N: WideNode> WideTree<N> {
                 let (first, count) = leaf_blocks(cur);
                 let blocks = &self.blocks[first..first + count];
                 for l in lanes(mask) {
-                    let r = pr[l].get_or_insert_with(|| PreparedRay::new(&rays[l]));
+                    let r = traverse::prepared(&mut pr[l], &rays[l]);
                     K::closest_leaf(blocks, r, &mut best[l]);
                 }
                 for l in lanes(mask) {

@@ -16,7 +16,7 @@
 use super::kernel::KernelChoice;
 use super::kernel::{BoxRay, Kernel, Nears, Scalar};
 use super::node::{is_leaf, leaf_blocks, ChildRef, WideNode};
-use super::traverse::{push_hits, Below, Entry, SMALL_STACK, STACK_CAPACITY};
+use super::traverse::{prepared, push_hits, Below, Entry, SMALL_STACK, STACK_CAPACITY};
 use super::WideTree;
 use crate::NoCount;
 use dynray_geom::{Hit, PreparedRay, Ray};
@@ -286,7 +286,7 @@ impl<N: WideNode> WideTree<N> {
     fn closest_step<K: Kernel, const S: usize>(&self, ray: &Ray, w: &mut Walk<Entry, S>) -> bool {
         let cur = w.cur;
         if is_leaf(cur) {
-            let pr = w.pr.get_or_insert_with(|| PreparedRay::new(ray));
+            let pr = prepared(&mut w.pr, ray);
             let (first, count) = leaf_blocks(cur);
             K::closest_leaf(&self.blocks[first..first + count], pr, &mut w.best);
         } else {
@@ -326,7 +326,7 @@ impl<N: WideNode> WideTree<N> {
     fn any_step<K: Kernel, const S: usize>(&self, ray: &Ray, w: &mut Walk<ChildRef, S>) -> Option<bool> {
         let cur = w.cur;
         if is_leaf(cur) {
-            let pr = w.pr.get_or_insert_with(|| PreparedRay::new(ray));
+            let pr = prepared(&mut w.pr, ray);
             let (first, count) = leaf_blocks(cur);
             if K::any_leaf(&self.blocks[first..first + count], pr) {
                 return Some(true);

@@ -72,6 +72,19 @@ pub(super) fn push_hits<N: WideNode>(
     stack[*sp].node
 }
 
+/// The triangle test's constants of `ray`, made on the first call (the walk's first leaf).
+///
+/// Not `get_or_insert_with(|| ...)`: the closure is a function of its own, compiled
+/// without the walk's AVX2/AVX-512 features, and LLVM kept it out of line (one call per
+/// ray, `PreparedRay::new` inside it built for baseline x86-64).
+#[inline(always)]
+pub(super) fn prepared<'a>(pr: &'a mut Option<PreparedRay>, ray: &Ray) -> &'a PreparedRay {
+    if pr.is_none() {
+        *pr = Some(PreparedRay::new(ray));
+    }
+    pr.as_ref().expect("set above")
+}
+
 /// Where a single-ray walk starts and what it tests with: the subtree, the ray, its box
 /// constants and its interval.
 pub(super) struct Below<'a> {
@@ -190,7 +203,7 @@ impl<N: WideNode> WideTree<N> {
         let mut cur: ChildRef = b.root;
         loop {
             if is_leaf(cur) {
-                let pr = pr.get_or_insert_with(|| PreparedRay::new(ray));
+                let pr = prepared(pr, ray);
                 let (first, count) = leaf_blocks(cur);
                 c.triangles(4 * count as u32);
                 K::closest_leaf(&self.blocks[first..first + count], pr, best);
@@ -261,7 +274,7 @@ impl<N: WideNode> WideTree<N> {
         let mut cur: ChildRef = 0;
         loop {
             if is_leaf(cur) {
-                let pr = pr.get_or_insert_with(|| PreparedRay::new(ray));
+                let pr = prepared(&mut pr, ray);
                 let (first, count) = leaf_blocks(cur);
                 c.triangles(4 * count as u32);
                 if K::any_leaf(&self.blocks[first..first + count], pr) {
