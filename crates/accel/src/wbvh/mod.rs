@@ -38,7 +38,7 @@ pub use kernel::{KernelRequest, FORCE_SCALAR_ENV};
 pub use node::{Node4, Node8, WideNode};
 pub use packet::PACKET;
 pub use params::WbvhParams;
-pub use stream::{looks_coherent, Interleave};
+pub use stream::{looks_coherent, Interleave, INTERLEAVE_MIN_BYTES};
 pub use validate::InvalidWbvh;
 
 use crate::{Accel, AccelStats, BuildError, Bvh, BvhNode, InvalidStructure, NoCount, TraversalCounts};
@@ -211,15 +211,16 @@ impl Accel for Wbvh {
     }
 
     /// [`stream::IN_FLIGHT`] rays interleaved per thread (stream.rs) where
-    /// `interleave=` says so (by default, when the batch does not look coherent), else one
+    /// `interleave=` says so (by default, when the batch does not look coherent and the
+    /// tree is at least [`stream::INTERLEAVE_MIN_BYTES`]), else one
     /// after the other on one stack.
     fn intersect_stream_into(&self, rays: &[Ray], hits: &mut [Hit]) {
-        let interleaved = self.params.interleave.applies(rays);
+        let interleaved = self.params.interleave.applies(rays, self.memory_bytes());
         with_tree!(self, t => t.closest_stream(rays, hits, interleaved))
     }
 
     fn occluded_stream_into(&self, rays: &[Ray], out: &mut [bool]) {
-        let interleaved = self.params.interleave.applies(rays);
+        let interleaved = self.params.interleave.applies(rays, self.memory_bytes());
         with_tree!(self, t => t.any_stream(rays, out, interleaved))
     }
 

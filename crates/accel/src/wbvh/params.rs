@@ -22,7 +22,8 @@ pub struct WbvhParams {
     /// build fails where the CPU lacks it). `DYNRAY_FORCE_SCALAR=1` sends `Auto` to scalar.
     pub kernel: KernelRequest,
     /// When batches of independent rays keep several in flight per thread (stream.rs):
-    /// `Auto` for batches that do not look coherent. Same answers either way.
+    /// `Auto` for batches that do not look coherent on trees of 16 MiB or more. Same
+    /// answers either way.
     pub interleave: Interleave,
 }
 
@@ -73,7 +74,7 @@ impl StructureParams for WbvhParams {
         ParamKey { name: "intersection_cost", doc: "SAH K_I, (0, 1000] (default 1)" },
         ParamKey {
             name: "interleave",
-            doc: "batches of rays keep several in flight per thread: auto (when they do not look coherent), on, off (default auto)",
+            doc: "batches of rays keep several in flight per thread: auto (incoherent batches on trees of 16 MiB or more), on, off (default auto)",
         },
         ParamKey {
             name: "reinsert",

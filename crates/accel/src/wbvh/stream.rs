@@ -70,7 +70,8 @@ pub const IN_FLIGHT: usize = 2;
 /// When a batch of independent rays is interleaved (`interleave=` of [`super::WbvhParams`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Interleave {
-    /// Interleave batches that do not look coherent ([`looks_coherent`]).
+    /// Interleave batches that do not look coherent ([`looks_coherent`]) on trees of at
+    /// least [`INTERLEAVE_MIN_BYTES`].
     Auto,
     /// Always.
     On,
@@ -87,15 +88,23 @@ impl Interleave {
         [Interleave::Auto, Interleave::On, Interleave::Off][i]
     }
 
-    /// Whether `rays` are traced interleaved under this policy.
-    pub fn applies(self, rays: &[Ray]) -> bool {
+    /// Whether `rays` are traced interleaved under this policy, on a tree of `tree_bytes`.
+    pub fn applies(self, rays: &[Ray], tree_bytes: usize) -> bool {
         match self {
-            Interleave::Auto => !looks_coherent(rays),
+            Interleave::Auto => tree_bytes >= INTERLEAVE_MIN_BYTES && !looks_coherent(rays),
             Interleave::On => true,
             Interleave::Off => false,
         }
     }
 }
+
+/// Trees below this size are not interleaved under `auto`: interleaving hides the wait for
+/// nodes and blocks that come from L3 or memory, and where the tree sits mostly in a
+/// core's L2 its bookkeeping costs more than it hides. Measured (docs/structures.md,
+/// "Streams"): on the 47 MiB dragon, random rays +14–46 % and diffuse +5–15 %; on the
+/// 6.1 MiB BART kitchen, random −7 to −16 % and diffuse −20 to −37 %; on the 3.8 MiB
+/// bunny, random +0–30 % but diffuse −8–0 %.
+pub const INTERLEAVE_MIN_BYTES: usize = 16 << 20;
 
 /// Consecutive directions within this cosine (about 8°) count as coherent.
 const COHERENT_COS: f32 = 0.99;
@@ -399,8 +408,10 @@ mod tests {
             Vec3::new(a.cos(), a.sin(), 0.1)
         }));
         let parallel = rays((0..64).map(|_| Vec3::Z));
-        assert!(Interleave::Auto.applies(&scattered) && !Interleave::Auto.applies(&parallel));
-        assert!(Interleave::On.applies(&parallel) && !Interleave::Off.applies(&scattered));
+        let (big, small) = (INTERLEAVE_MIN_BYTES, INTERLEAVE_MIN_BYTES - 1);
+        assert!(Interleave::Auto.applies(&scattered, big) && !Interleave::Auto.applies(&parallel, big));
+        assert!(!Interleave::Auto.applies(&scattered, small));
+        assert!(Interleave::On.applies(&parallel, small) && !Interleave::Off.applies(&scattered, big));
         for (i, name) in Interleave::NAMES.iter().enumerate() {
             assert_eq!(Interleave::NAMES[Interleave::from_index(i) as usize], *name);
         }
