@@ -101,9 +101,9 @@ impl Interleave {
 /// Trees below this size are not interleaved under `auto`: interleaving hides the wait for
 /// nodes and blocks that come from L3 or memory, and where the tree sits mostly in a
 /// core's L2 its bookkeeping costs more than it hides. Measured (docs/structures.md,
-/// "Streams"): on the 47 MiB dragon, random rays +14–46 % and diffuse +5–15 %; on the
-/// 6.1 MiB BART kitchen, random −7 to −16 % and diffuse −20 to −37 %; on the 3.8 MiB
-/// bunny, random +0–30 % but diffuse −8–0 %.
+/// "Streams"): on the 47 MiB dragon, random rays +11–47 % and diffuse +4–15 %; on the
+/// 6.1 MiB BART kitchen, random −6 to −16 % and diffuse −15 to −37 %; on the 3.8 MiB
+/// bunny, random +0–32 % but diffuse −6 to +16 %.
 pub const INTERLEAVE_MIN_BYTES: usize = 16 << 20;
 
 /// Consecutive directions within this cosine (about 8°) count as coherent.
