@@ -211,9 +211,9 @@ impl Accel for Wbvh {
         true
     }
 
-    /// [`stream::IN_FLIGHT`] rays interleaved per thread (stream.rs) where
+    /// `IN_FLIGHT` (2) rays interleaved per thread (stream.rs) where
     /// `interleave=` says so (by default, when the batch does not look coherent and the
-    /// tree is at least [`stream::INTERLEAVE_MIN_BYTES`]), else one
+    /// tree is at least [`INTERLEAVE_MIN_BYTES`]), else one
     /// after the other on one stack.
     fn intersect_stream_into(&self, rays: &[Ray], hits: &mut [Hit]) {
         let interleaved = self.params.interleave.applies(rays, self.memory_bytes());

@@ -112,7 +112,7 @@ const COHERENT_COS: f32 = 0.99;
 /// Consecutive pairs [`looks_coherent`] looks at, spread over the batch (a few ns each).
 const SAMPLED_PAIRS: usize = 32;
 
-/// True when at least half of up to [`SAMPLED_PAIRS`] consecutive ray pairs spread over
+/// True when at least half of up to `SAMPLED_PAIRS` (32) consecutive ray pairs spread over
 /// `rays` point the same way within about 8° (camera rays of neighbouring pixels, shadow
 /// rays of neighbouring points towards one light). Such rays find their nodes in cache and
 /// their branches predicted, and interleaving them only adds its bookkeeping; incoherent
