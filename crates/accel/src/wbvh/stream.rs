@@ -343,18 +343,9 @@ impl<N: WideNode> WideTree<N> {
         } else {
             let node = &self.nodes[cur as usize];
             let mut near: Nears = [0.0; 8];
-            let mut m = K::boxes(node, &w.br, ray.tmin, ray.tmax, &mut near);
+            let m = K::boxes(node, &w.br, ray.tmin, ray.tmax, &mut near);
             if m != 0 {
-                let i = m.trailing_zeros() as usize;
-                m &= m - 1;
-                while m != 0 {
-                    let c = node.child(m.trailing_zeros() as usize);
-                    self.prefetch_child::<K>(c);
-                    w.stack[w.sp] = c;
-                    w.sp += 1;
-                    m &= m - 1;
-                }
-                w.cur = node.child(i);
+                w.cur = self.push_any::<K>(node, m, &mut w.stack, &mut w.sp);
                 self.prefetch_child::<K>(w.cur);
                 return None;
             }

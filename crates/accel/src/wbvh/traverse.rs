@@ -243,6 +243,22 @@ impl<N: WideNode> WideTree<N> {
         }
     }
 
+    /// Pushes the children in `mask` (one or more) but the lowest lane onto `stack` above
+    /// `sp`, unsorted and prefetched, and returns the lowest lane's, which the any-hit
+    /// walk visits next. Shared by the single-ray walk and the interleaved one.
+    #[inline(always)]
+    pub(super) fn push_any<K: Kernel>(&self, node: &N, mask: u32, stack: &mut [ChildRef], sp: &mut usize) -> ChildRef {
+        let mut m = mask & (mask - 1);
+        while m != 0 {
+            let c = node.child(m.trailing_zeros() as usize);
+            self.prefetch_child::<K>(c);
+            stack[*sp] = c;
+            *sp += 1;
+            m &= m - 1;
+        }
+        node.child(mask.trailing_zeros() as usize)
+    }
+
     /// Starts loading child `r`: its node, or its leaf's blocks.
     #[inline(always)]
     pub(super) fn prefetch_child<K: Kernel>(&self, r: ChildRef) {
@@ -283,18 +299,9 @@ impl<N: WideNode> WideTree<N> {
             } else {
                 let node = &self.nodes[cur as usize];
                 c.node();
-                let mut m = K::boxes(node, &br, tmin, tmax, &mut near);
+                let m = K::boxes(node, &br, tmin, tmax, &mut near);
                 if m != 0 {
-                    let i = m.trailing_zeros() as usize;
-                    m &= m - 1;
-                    while m != 0 {
-                        let c = node.child(m.trailing_zeros() as usize);
-                        self.prefetch_child::<K>(c);
-                        stack[sp] = c;
-                        sp += 1;
-                        m &= m - 1;
-                    }
-                    cur = node.child(i);
+                    cur = self.push_any::<K>(node, m, stack, &mut sp);
                     continue;
                 }
             }
