@@ -283,8 +283,8 @@ mod tests {
             2 => [Vec3::X, Vec3::NEG_Y, Vec3::Z][rng.gen_range(0..3)],
             _ => Vec3::new(rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0)),
         };
-        let tmin = [0.0, -1.0, f32::NEG_INFINITY, 0.5][rng.gen_range(0..4)];
-        let tmax = [f32::INFINITY, 1.0, 2.0, 0.0][rng.gen_range(0..4)];
+        let tmin = [0.0, -1.0, f32::NEG_INFINITY, 0.5, -0.0, 1e-40][rng.gen_range(0..6)];
+        let tmax = [f32::INFINITY, 1.0, 2.0, 0.0, f32::MIN_POSITIVE, 1e-40][rng.gen_range(0..6)];
         Ray::with_interval(o, d, tmin, tmax)
     }
 
@@ -325,7 +325,16 @@ mod tests {
             return Vec::new();
         }
         let at = |tmin, tmax| Ray::with_interval(ray.origin, ray.dir, tmin, tmax);
-        vec![at(h.t, h.t), at(h.t, ray.tmax), at(ray.tmin, h.t)]
+        // One f32 either side of the hit too: one end just excludes it, one just admits it.
+        vec![
+            at(h.t, h.t),
+            at(h.t, ray.tmax),
+            at(ray.tmin, h.t),
+            at(ray.tmin, h.t.next_down()),
+            at(ray.tmin, h.t.next_up()),
+            at(h.t.next_down(), ray.tmax),
+            at(h.t.next_up(), ray.tmax),
+        ]
     }
 
     /// The spec: `Hit::closest_of` over the triangles in order, starting from `start`.
