@@ -6,6 +6,7 @@
 
 use super::block::{TriBlock, LANES, PAD_ID};
 use super::node::WideNode;
+use super::packet::{lanes, PACKET};
 use dynray_geom::{Hit, PreparedRay, Ray, SLAB_MARGIN};
 
 /// What the box test needs of a ray: origin and `1 / dir` (as `PreparedRay::inv_dir`).
@@ -66,6 +67,22 @@ pub trait Kernel {
         }
     }
 
+    /// [`Kernel::closest_leaf`] for the lanes `mask` of a packet, whose rays share one
+    /// origin: lane `l` tests with `pr[l]` (set for every lane of `mask`) into `best[l]`.
+    /// A kernel may compute what depends on the origin and the axis order only once for
+    /// all lanes; each lane's answer is its own `closest_leaf`'s, bit for bit.
+    #[inline(always)]
+    fn closest_leaf_lanes(
+        blocks: &[TriBlock],
+        mask: u32,
+        pr: &[Option<PreparedRay>; PACKET],
+        best: &mut [Hit; PACKET],
+    ) {
+        for l in lanes(mask) {
+            Self::closest_leaf(blocks, lane(pr, l), &mut best[l]);
+        }
+    }
+
     /// [`Kernel::any`] over a leaf's blocks.
     ///
     /// A plain loop, not `iter().any(closure)`: the closure is a function without the
@@ -87,6 +104,12 @@ pub trait Kernel {
     fn prefetch<T>(x: &T) {
         let _ = x;
     }
+}
+
+/// The test constants of packet lane `l`, which the caller has set.
+#[inline(always)]
+pub(super) fn lane(pr: &[Option<PreparedRay>; PACKET], l: usize) -> &PreparedRay {
+    pr[l].as_ref().expect("packet lane prepared before its leaf test")
 }
 
 /// The portable kernel and the specification: the scalar triangle test on every real lane,

@@ -16,8 +16,9 @@
 #![allow(unsafe_code)]
 
 use super::block::TriBlock;
-use super::kernel::{BoxRay, Kernel, Nears};
+use super::kernel::{lane, BoxRay, Kernel, Nears};
 use super::node::WideNode;
+use super::packet::{lanes, PACKET};
 use bytemuck::cast;
 use dynray_geom::{Hit, PreparedRay, SLAB_MARGIN};
 use std::arch::x86_64::*;
@@ -83,16 +84,28 @@ fn positive(x: __m256d) -> __m256d {
     unsafe { _mm256_cmp_pd::<_CMP_GT_OQ>(x, _mm256_setzero_pd()) }
 }
 
+/// The three vertices of the block's 4 lanes relative to `r`'s origin, in its axis order:
+/// all of the test that rays with one origin and axis order share.
+#[inline(always)]
+fn block_rel(b: &TriBlock, r: &PreparedRay) -> [[__m256d; 3]; 3] {
+    // SAFETY: see the file's header (AVX2 is present wherever this is inlined).
+    let o = unsafe { [_mm256_set1_pd(r.origin64[0]), _mm256_set1_pd(r.origin64[1]), _mm256_set1_pd(r.origin64[2])] };
+    [rel(b, 0, r.k, o), rel(b, 1, r.k, o), rel(b, 2, r.k, o)]
+}
+
 /// The scalar test of `Triangle::intersect` on the block's 4 lanes.
 #[inline(always)]
 fn block_test(b: &TriBlock, r: &PreparedRay, tmax: f32) -> Option<BlockHits> {
+    block_test_rel(&block_rel(b, r), r, tmax)
+}
+
+/// [`block_test`] from the vertices relative to the origin ([`block_rel`]).
+#[inline(always)]
+fn block_test_rel(rel: &[[__m256d; 3]; 3], r: &PreparedRay, tmax: f32) -> Option<BlockHits> {
     // SAFETY: see the file's header (AVX2 is present wherever this is inlined).
     unsafe {
-        let o = [_mm256_set1_pd(r.origin64[0]), _mm256_set1_pd(r.origin64[1]), _mm256_set1_pd(r.origin64[2])];
         let (sx, sy, sz) = (_mm256_set1_pd(r.shear[0]), _mm256_set1_pd(r.shear[1]), _mm256_set1_pd(r.shear[2]));
-        let [a0, a1, a2] = rel(b, 0, r.k, o);
-        let [b0, b1, b2] = rel(b, 1, r.k, o);
-        let [c0, c1, c2] = rel(b, 2, r.k, o);
+        let [[a0, a1, a2], [b0, b1, b2], [c0, c1, c2]] = *rel;
         let (ax, ay) = (shear(a0, sx, a2), shear(a1, sy, a2));
         let (bx, by) = (shear(b0, sx, b2), shear(b1, sy, b2));
         let (cx, cy) = (shear(c0, sx, c2), shear(c1, sy, c2));
@@ -125,6 +138,52 @@ fn block_test(b: &TriBlock, r: &PreparedRay, tmax: f32) -> Option<BlockHits> {
         let u = _mm256_cvtpd_ps(_mm256_mul_pd(ev, rcp));
         let v = _mm256_cvtpd_ps(_mm256_mul_pd(ew, rcp));
         Some(BlockHits { mask, t: cast(t), u: cast(u), v: cast(v) })
+    }
+}
+
+/// Keeps in `best` the hits of `h` on block `b` closer than it.
+#[inline(always)]
+fn keep_closest(h: &BlockHits, b: &TriBlock, best: &mut Hit) {
+    let mut m = h.mask;
+    while m != 0 {
+        let l = m.trailing_zeros() as usize;
+        m &= m - 1;
+        // `is_closer` is a strict order on (t, id), so lane order does not matter.
+        if Hit::is_closer(h.t[l], b.ids[l], best) {
+            *best = Hit { t: h.t[l], u: h.u[l], v: h.v[l], prim: b.ids[l] };
+        }
+    }
+}
+
+impl Avx2 {
+    /// The lanes of `mask` whose axis order is the lowest lane's: with the packet's shared
+    /// origin, they share each block's vertices relative to it.
+    #[inline(always)]
+    pub(super) fn same_axis_order(mask: u32, pr: &[Option<PreparedRay>; PACKET]) -> u32 {
+        let k = lane(pr, mask.trailing_zeros() as usize).k;
+        lanes(mask).fold(0, |m, l| m | ((lane(pr, l).k == k) as u32) << l)
+    }
+
+    /// [`Kernel::closest`] on block `b` for packet lanes `together`, which share their
+    /// origin and axis order: the vertices relative to the origin once, the rest per lane
+    /// (the numbers each lane computes alone, bit for bit).
+    #[inline(always)]
+    pub(super) fn closest_block_lanes(
+        b: &TriBlock,
+        together: u32,
+        pr: &[Option<PreparedRay>; PACKET],
+        best: &mut [Hit; PACKET],
+    ) {
+        if together == 0 {
+            return;
+        }
+        let rel = block_rel(b, lane(pr, together.trailing_zeros() as usize));
+        for l in lanes(together) {
+            let r = lane(pr, l);
+            if let Some(h) = block_test_rel(&rel, r, best[l].t.min(r.ray.tmax)) {
+                keep_closest(&h, b, &mut best[l]);
+            }
+        }
     }
 }
 
@@ -226,15 +285,26 @@ impl Kernel for Avx2 {
 
     #[inline(always)]
     fn closest(b: &TriBlock, r: &PreparedRay, best: &mut Hit) {
-        let Some(h) = block_test(b, r, best.t.min(r.ray.tmax)) else { return };
-        let mut m = h.mask;
-        while m != 0 {
-            let l = m.trailing_zeros() as usize;
-            m &= m - 1;
-            // `is_closer` is a strict order on (t, id), so lane order does not matter.
-            if Hit::is_closer(h.t[l], b.ids[l], best) {
-                *best = Hit { t: h.t[l], u: h.u[l], v: h.v[l], prim: b.ids[l] };
-            }
+        if let Some(h) = block_test(b, r, best.t.min(r.ray.tmax)) {
+            keep_closest(&h, b, best);
+        }
+    }
+
+    /// Each block's vertices made relative to the shared origin once for every lane with
+    /// the first lane's axis order (`Avx2::closest_block_lanes`); the others test alone.
+    #[inline(always)]
+    fn closest_leaf_lanes(
+        blocks: &[TriBlock],
+        mask: u32,
+        pr: &[Option<PreparedRay>; PACKET],
+        best: &mut [Hit; PACKET],
+    ) {
+        let together = Avx2::same_axis_order(mask, pr);
+        for b in blocks {
+            Avx2::closest_block_lanes(b, together, pr, best);
+        }
+        for l in lanes(mask & !together) {
+            Self::closest_leaf(blocks, lane(pr, l), &mut best[l]);
         }
     }
 

@@ -23,9 +23,10 @@
 #![allow(unsafe_code)]
 
 use super::block::TriBlock;
-use super::kernel::{BoxRay, Kernel, Nears};
+use super::kernel::{lane, BoxRay, Kernel, Nears};
 use super::kernel_avx2::Avx2;
 use super::node::WideNode;
+use super::packet::{lanes, PACKET};
 use bytemuck::cast;
 use dynray_geom::{Hit, PreparedRay, SLAB_MARGIN};
 use std::arch::x86_64::*;
@@ -120,17 +121,29 @@ struct Hits<const L: usize> {
     v: [f32; L],
 }
 
+/// The three vertices of the 8 lanes of blocks `a` and `b` relative to the origin, in
+/// the ray's axis order: all of the test that rays with one origin and axis order share.
+#[inline(always)]
+fn pair_rel(a: &TriBlock, b: &TriBlock, r8: &Ray8) -> [[__m512d; 3]; 3] {
+    [rel8(a, b, 0, r8), rel8(a, b, 1, r8), rel8(a, b, 2, r8)]
+}
+
 /// The scalar test of `Triangle::intersect` on the 8 lanes of blocks `a` and `b`.
 #[inline(always)]
 fn pair_test(a: &TriBlock, b: &TriBlock, r: &PreparedRay, r8: &Ray8, tmax: f32) -> Option<Hits<8>> {
+    pair_test_rel(&pair_rel(a, b, r8), r, &[r8.s[0], r8.s[1]], tmax)
+}
+
+/// [`pair_test`] from the vertices relative to the origin ([`pair_rel`]) and the ray's
+/// first two shear constants `s`, broadcast.
+#[inline(always)]
+fn pair_test_rel(rel: &[[__m512d; 3]; 3], r: &PreparedRay, s: &[__m512d; 2], tmax: f32) -> Option<Hits<8>> {
     // SAFETY: see the file's header.
     unsafe {
-        let [a0, a1, a2] = rel8(a, b, 0, r8);
-        let [b0, b1, b2] = rel8(a, b, 1, r8);
-        let [c0, c1, c2] = rel8(a, b, 2, r8);
-        let (ax, ay) = (shear(a0, r8.s[0], a2), shear(a1, r8.s[1], a2));
-        let (bx, by) = (shear(b0, r8.s[0], b2), shear(b1, r8.s[1], b2));
-        let (cx, cy) = (shear(c0, r8.s[0], c2), shear(c1, r8.s[1], c2));
+        let [[a0, a1, a2], [b0, b1, b2], [c0, c1, c2]] = *rel;
+        let (ax, ay) = (shear(a0, s[0], a2), shear(a1, s[1], a2));
+        let (bx, by) = (shear(b0, s[0], b2), shear(b1, s[1], b2));
+        let (cx, cy) = (shear(c0, s[0], c2), shear(c1, s[1], c2));
         let eu = edge(cx, by, cy, bx);
         let ev = edge(ax, cy, ay, cx);
         let ew = edge(bx, ay, by, ax);
@@ -157,6 +170,12 @@ fn pair_test(a: &TriBlock, b: &TriBlock, r: &PreparedRay, r8: &Ray8, tmax: f32) 
         let v = _mm512_cvtpd_ps(_mm512_mul_pd(ew, rcp));
         Some(Hits { mask, t: cast(t), u: cast(u), v: cast(v) })
     }
+}
+
+/// The mesh ids of the 8 lanes of blocks `a` and `b`.
+#[inline(always)]
+fn pair_ids(a: &TriBlock, b: &TriBlock) -> [u32; 8] {
+    [a.ids[0], a.ids[1], a.ids[2], a.ids[3], b.ids[0], b.ids[1], b.ids[2], b.ids[3]]
 }
 
 /// Keeps in `best` the hits of `h` (lane `l` has mesh id `ids[l]`) closer than it.
@@ -234,12 +253,46 @@ impl Kernel for Avx512 {
         for p in &mut pairs {
             let (a, b) = (&p[0], &p[1]);
             if let Some(h) = pair_test(a, b, r, &r8, best.t.min(r.ray.tmax)) {
-                let ids: [u32; 8] = [a.ids[0], a.ids[1], a.ids[2], a.ids[3], b.ids[0], b.ids[1], b.ids[2], b.ids[3]];
-                keep_closest(&h, &ids, best);
+                keep_closest(&h, &pair_ids(a, b), best);
             }
         }
         if let [last] = pairs.remainder() {
             Avx2::closest(last, r, best);
+        }
+    }
+
+    /// Block pairs as in `closest_leaf`, each pair's vertices made relative to the shared
+    /// origin once for every lane with the first lane's axis order (the same numbers each
+    /// lane computes alone: the origin's bits are the same); lanes with another order, and
+    /// the odd block, test alone.
+    #[inline(always)]
+    fn closest_leaf_lanes(
+        blocks: &[TriBlock],
+        mask: u32,
+        pr: &[Option<PreparedRay>; PACKET],
+        best: &mut [Hit; PACKET],
+    ) {
+        let first = lane(pr, mask.trailing_zeros() as usize);
+        let shared = Ray8::new(first);
+        let together = Avx2::same_axis_order(mask, pr);
+        let mut pairs = blocks.chunks_exact(2);
+        for p in &mut pairs {
+            let (a, b) = (&p[0], &p[1]);
+            let rel = pair_rel(a, b, &shared);
+            for l in lanes(together) {
+                let r = lane(pr, l);
+                // SAFETY: see the file's header.
+                let s = unsafe { [_mm512_set1_pd(r.shear[0]), _mm512_set1_pd(r.shear[1])] };
+                if let Some(h) = pair_test_rel(&rel, r, &s, best[l].t.min(r.ray.tmax)) {
+                    keep_closest(&h, &pair_ids(a, b), &mut best[l]);
+                }
+            }
+        }
+        if let [last] = pairs.remainder() {
+            Avx2::closest_block_lanes(last, together, pr, best);
+        }
+        for l in lanes(mask & !together) {
+            Self::closest_leaf(blocks, lane(pr, l), &mut best[l]);
         }
     }
 

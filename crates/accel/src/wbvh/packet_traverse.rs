@@ -129,9 +129,9 @@ impl<N: WideNode> WideTree<N> {
                 let (first, count) = leaf_blocks(cur);
                 let blocks = &self.blocks[first..first + count];
                 for l in lanes(mask) {
-                    let r = traverse::prepared(&mut pr[l], &rays[l]);
-                    K::closest_leaf(blocks, r, &mut best[l]);
+                    traverse::prepared(&mut pr[l], &rays[l]);
                 }
+                K::closest_leaf_lanes(blocks, mask, pr, &mut best);
                 for l in lanes(mask) {
                     limit[l] = best[l].t.min(p.tmax[l]);
                 }
