@@ -54,14 +54,38 @@ macro_rules! frustum {
             n = $max(n, $min($mul(de, imin), $mul(de, imax)));
             x = $min(x, $max($mul(dx, imin), $mul(dx, imax)));
         }
-        let zero = $zero();
-        let n = $max(widen!($cmp, $blend, $set1, $mul, zero, n, true), $set1(f.tmin));
-        let x = $min(widen!($cmp, $blend, $set1, $mul, zero, x, false), $set1(f.limit));
+        // Every lane starts at `tmin >= 0`: no sign pick (see `Kernel::boxes`).
+        let (n, x) = if f.tmin >= 0.0 {
+            ($mul(n, $set1(1.0 - SLAB_MARGIN)), $mul(x, $set1(1.0 + SLAB_MARGIN)))
+        } else {
+            let zero = $zero();
+            (widen!($cmp, $blend, $set1, $mul, zero, n, true), widen!($cmp, $blend, $set1, $mul, zero, x, false))
+        };
+        let n = $max(n, $set1(f.tmin));
+        let x = $min(x, $set1(f.limit));
         let valid = (1u32 << node.count()) - 1;
         let out: $arr = cast(n);
         $near[..out.len()].copy_from_slice(&out);
         ($movemask($cmp::<_CMP_LE_OQ>(n, x)) as u32) & valid
     }};
+}
+
+/// The lanes' entry and exit distances widened outwards as `Aabb::clip` widens them; a
+/// packet whose lanes all start at `tmin >= 0` needs no sign pick (see `Kernel::boxes`).
+#[inline(always)]
+fn widen_lanes(p: &Packet, n: __m256, x: __m256) -> (__m256, __m256) {
+    // SAFETY: see the file's header.
+    unsafe {
+        if p.nonneg {
+            (_mm256_mul_ps(n, _mm256_set1_ps(1.0 - SLAB_MARGIN)), _mm256_mul_ps(x, _mm256_set1_ps(1.0 + SLAB_MARGIN)))
+        } else {
+            let zero = _mm256_setzero_ps();
+            (
+                widen!(_mm256_cmp_ps, _mm256_blendv_ps, _mm256_set1_ps, _mm256_mul_ps, zero, n, true),
+                widen!(_mm256_cmp_ps, _mm256_blendv_ps, _mm256_set1_ps, _mm256_mul_ps, zero, x, false),
+            )
+        }
+    }
 }
 
 impl PacketKernel for Avx2 {
@@ -124,9 +148,7 @@ impl PacketKernel for Avx2 {
                 n = _mm256_max_ps(n, near_a);
                 x = _mm256_min_ps(x, far_a);
             }
-            let zero = _mm256_setzero_ps();
-            let n = widen!(_mm256_cmp_ps, _mm256_blendv_ps, _mm256_set1_ps, _mm256_mul_ps, zero, n, true);
-            let x = widen!(_mm256_cmp_ps, _mm256_blendv_ps, _mm256_set1_ps, _mm256_mul_ps, zero, x, false);
+            let (n, x) = widen_lanes(p, n, x);
             // `maxps(tmin, n)` = `tmin > n ? tmin : n`; `minps(limit, x)` = `limit < x ? limit : x`.
             let n = _mm256_max_ps(cast::<Lanes, __m256>(p.tmin), n);
             let x = _mm256_min_ps(cast::<Lanes, __m256>(*limit), x);
@@ -157,9 +179,7 @@ impl PacketKernel for Avx2 {
                 n = _mm256_max_ps(n, _mm256_mul_ps(_mm256_sub_ps(_mm256_set1_ps(enter), o), inv));
                 x = _mm256_min_ps(x, _mm256_mul_ps(_mm256_sub_ps(_mm256_set1_ps(exit), o), inv));
             }
-            let zero = _mm256_setzero_ps();
-            let n = widen!(_mm256_cmp_ps, _mm256_blendv_ps, _mm256_set1_ps, _mm256_mul_ps, zero, n, true);
-            let x = widen!(_mm256_cmp_ps, _mm256_blendv_ps, _mm256_set1_ps, _mm256_mul_ps, zero, x, false);
+            let (n, x) = widen_lanes(p, n, x);
             let n = _mm256_max_ps(cast::<Lanes, __m256>(p.tmin), n);
             let x = _mm256_min_ps(cast::<Lanes, __m256>(*limit), x);
             *near = cast(n);
