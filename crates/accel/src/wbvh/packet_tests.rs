@@ -63,7 +63,7 @@ fn packet_rays(rng: &mut SmallRng, i: usize) -> Vec<Ray> {
             }
             // Every fifth packet starts all lanes at `tmin >= 0`, the case the SIMD tests
             // widen without a sign pick.
-            let tmin = if i % 5 == 0 {
+            let tmin = if i.is_multiple_of(5) {
                 [0.0, 0.5, -0.0][rng.gen_range(0..3)]
             } else {
                 [0.0, -1.0, f32::NEG_INFINITY, 0.5, 2.0][rng.gen_range(0..5)]
