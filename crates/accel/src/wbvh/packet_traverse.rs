@@ -20,9 +20,12 @@ struct Entry {
 }
 
 /// At or below this many lanes entering a node, the packet hands them to single-ray
-/// walks of that subtree (Embree's switch threshold for coherent rays is 2): a packet
-/// test serves 8 lanes for about the price of two single-ray node tests.
-const ALONE: u32 = 2;
+/// walks of that subtree. Embree's switch threshold for coherent rays is 2; here two
+/// lanes stay together, since leaves share their vertex set-up across lanes
+/// (`Kernel::closest_leaf_lanes`): with 1 instead of 2, packets on one thread went
+/// 12.6–13.0 → 13.3–14.0 Mrays/s on the BART kitchen and 25.7–26.2 → 27.5–27.8 on the
+/// bunny (min of 8–10 passes, 3 alternated rounds), the dragon equal within its noise.
+const ALONE: u32 = 1;
 
 /// Working memory of packet traversals: the stacks and the lanes' triangle-test
 /// constants. Made once per batch, so that a packet does not start by zeroing a stack.
