@@ -406,6 +406,10 @@ impl Builder<'_> {
 }
 
 /// Adds `refs` to the bins of all three axes.
+///
+/// Tried and dropped: even and odd refs into two sets of bins merged afterwards, so that
+/// neighbouring refs in one bin do not wait on each other's store; dragon builds within
+/// noise of this loop (docs/structures.md, "Builder").
 fn bin_refs(refs: &[PrimRef], cb: &Box3, scale: Vec3A, k: usize, bins: &mut Bins) {
     let kmax = Vec3A::splat((k - 1) as f32);
     for r in refs {

@@ -9,6 +9,12 @@
 //! threads): primary rays 0.62–0.72× Embree with the network against 0.60–0.85× without
 //! (dragon 10.5 / 11.6 against 13.5 / 14.8 Mrays/s), incoherent kinds equal within noise.
 //!
+//! Also dropped: rejecting a pair before its divide when every lane's `t` is outside
+//! `[tmin, tmax]` (comparing `tt` with the widened bounds times `det`, as Embree's tests
+//! do): 93 % of the pairs a ray tests have a lane whose edges contain it, and only 1.5–4 %
+//! of those lie wholly outside the interval, so the extra compares cost shadow and diffuse
+//! rays 3–4 % on the BART kitchen (docs/structures.md, "Where it stands").
+//!
 //! Bit-identical to [`super::kernel::Scalar`] for the reasons kernel_avx2.rs gives: every
 //! lane performs the scalar test's IEEE operations in its order (no FMA intrinsic; Rust
 //! never contracts), conversions round to nearest, compares are ordered (`_OQ`). The tests
