@@ -269,8 +269,8 @@ impl Kernel for Avx512 {
 
     /// Block pairs as in `closest_leaf`, each pair's vertices made relative to the shared
     /// origin once for every lane with the first lane's axis order (the same numbers each
-    /// lane computes alone: the origin's bits are the same); lanes with another order, and
-    /// the odd block, test alone.
+    /// lane computes alone: the origin's bits are the same), the odd block likewise through
+    /// `Avx2::closest_block_lanes`; lanes with another axis order test alone.
     #[inline(always)]
     fn closest_leaf_lanes(
         blocks: &[TriBlock],
