@@ -1,12 +1,17 @@
-//! BVH build time and primary-ray throughput on the bunny and the full dragon (871k
-//! triangles): 1024×1024 pinhole rays from `Camera::framing`, traced on all cores.
+//! BVH build time and ray throughput on the bunny and the full dragon (871k triangles):
+//! 1024×1024 pinhole rays from `Camera::framing`, traced on all cores. Two groups per
+//! model: `bvh/…`, the binary tree (`bvh2`) per preset, and `wbvh/…`, the wide tree that
+//! `bvh` names (build; primary rays one at a time and in packets of 8; any-hit; random
+//! rays from inside the box, the incoherent case).
 //!
-//! Run: `cargo bench -p dynray-accel --bench bvh` (Mrays/s = 1 048 576 / time per trace).
-//! Set `DYNRAY_SCENES` when the scenes are not at `../shared/scenes`.
+//! Run: `cargo bench -p dynray-accel --bench bvh` (Mrays/s = rays / time per trace;
+//! criterion prints elements per second). Set `DYNRAY_SCENES` when the scenes are not at
+//! `../shared/scenes`.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use dynray_accel::{Accel, BatchQuery, Bvh, BvhParams};
+use dynray_accel::{Accel, BatchQuery, Bvh, BvhParams, Coherent, Wbvh, WbvhParams};
 use dynray_geom::{Ray, TriangleMesh, Vec3};
+use rand::{rngs::SmallRng, Rng, SeedableRng};
 use dynray_scene::{Camera, Projection};
 use std::path::PathBuf;
 use std::time::Duration;
@@ -83,9 +88,45 @@ fn bench_model(c: &mut Criterion, name: &str, rel: &str) {
     g.finish();
 }
 
+/// As many rays as `n`, each from a random point of the mesh's box in a random direction
+/// (seeded: the same set every run).
+fn random_rays(mesh: &TriangleMesh, n: usize) -> Vec<Ray> {
+    let b = mesh.bounds();
+    let mut rng = SmallRng::seed_from_u64(5);
+    (0..n)
+        .map(|_| {
+            let o = b.min + (b.max - b.min) * Vec3::new(rng.gen(), rng.gen(), rng.gen());
+            let d = Vec3::new(rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0));
+            Ray::new(o, if d == Vec3::ZERO { Vec3::Y } else { d })
+        })
+        .collect()
+}
+
+/// The wide BVH (what `bvh` names) with its default parameters.
+fn bench_wide(c: &mut Criterion, name: &str, rel: &str) {
+    let mesh = scene(rel);
+    let rays = primary_rays(&mesh);
+    let random = random_rays(&mesh, rays.len());
+    let p = WbvhParams::default();
+    let mut g = c.benchmark_group(format!("wbvh/{name}"));
+    g.sample_size(10).warm_up_time(Duration::from_secs(1));
+    g.throughput(Throughput::Elements(mesh.triangle_count() as u64));
+    g.bench_function("build", |b| b.iter(|| Wbvh::build(&mesh, &p).unwrap()));
+    let w = Wbvh::build(&mesh, &p).unwrap();
+    eprintln!("{name}/wbvh: {} kernel, {:.1} MB", w.kernel(), w.stats().memory_bytes as f64 / 1e6);
+    g.throughput(Throughput::Elements(rays.len() as u64));
+    g.bench_function("primary", |b| b.iter(|| w.intersect_batch(&rays)));
+    g.bench_function("primary-packets", |b| b.iter(|| Coherent(&w).intersect_batch(&rays)));
+    g.bench_function("occluded", |b| b.iter(|| w.occluded_batch(&rays)));
+    g.bench_function("random", |b| b.iter(|| w.intersect_batch(&random)));
+    g.finish();
+}
+
 fn benches(c: &mut Criterion) {
     bench_model(c, "bunny", "bunny/bun_zipper.ply");
     bench_model(c, "dragon", "dragon/dragon_vrip.ply.gz");
+    bench_wide(c, "bunny", "bunny/bun_zipper.ply");
+    bench_wide(c, "dragon", "dragon/dragon_vrip.ply.gz");
 }
 
 criterion_group!(bvh, benches);
