@@ -11,8 +11,8 @@
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use dynray_accel::{Accel, BatchQuery, Bvh, BvhParams, Coherent, Wbvh, WbvhParams};
 use dynray_geom::{Ray, TriangleMesh, Vec3};
-use rand::{rngs::SmallRng, Rng, SeedableRng};
 use dynray_scene::{Camera, Projection};
+use rand::{rngs::SmallRng, Rng, SeedableRng};
 use std::path::PathBuf;
 use std::time::Duration;
 
