@@ -112,6 +112,19 @@ pub(super) fn lane(pr: &[Option<PreparedRay>; PACKET], l: usize) -> &PreparedRay
     pr[l].as_ref().expect("packet lane prepared before its leaf test")
 }
 
+/// The lanes of `mask` (not empty) whose axis order is the lowest lane's: with the
+/// packet's shared origin, they share each block's vertices relative to it.
+#[inline(always)]
+pub(super) fn same_axis_order(mask: u32, pr: &[Option<PreparedRay>; PACKET]) -> u32 {
+    let k = lane(pr, mask.trailing_zeros() as usize).k;
+    // A loop, not `fold(closure)`: see `Kernel::any_leaf`.
+    let mut same = 0;
+    for l in lanes(mask) {
+        same |= ((lane(pr, l).k == k) as u32) << l;
+    }
+    same
+}
+
 /// The portable kernel and the specification: the scalar triangle test on every real lane,
 /// the box test of `Aabb::clip` on every child.
 #[derive(Clone, Copy, Debug)]

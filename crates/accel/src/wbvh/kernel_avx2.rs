@@ -16,7 +16,7 @@
 #![allow(unsafe_code)]
 
 use super::block::TriBlock;
-use super::kernel::{lane, BoxRay, Kernel, Nears};
+use super::kernel::{lane, same_axis_order, BoxRay, Kernel, Nears};
 use super::node::WideNode;
 use super::packet::{lanes, PACKET};
 use bytemuck::cast;
@@ -27,13 +27,13 @@ use std::arch::x86_64::*;
 #[derive(Clone, Copy, Debug)]
 pub struct Avx2;
 
-/// Lane results of one block test: lanes that hit within `[tmin, tmax]`, and their
-/// `t`, `u`, `v`.
-struct BlockHits {
-    mask: u32,
-    t: [f32; 4],
-    u: [f32; 4],
-    v: [f32; 4],
+/// Lane results of one block test (`L` = 4) or block-pair test (`L` = 8, kernel_avx512.rs):
+/// lanes that hit within `[tmin, tmax]`, and their `t`, `u`, `v`.
+pub(super) struct Hits<const L: usize> {
+    pub mask: u32,
+    pub t: [f32; L],
+    pub u: [f32; L],
+    pub v: [f32; L],
 }
 
 // The helpers below are `#[inline(always)]` functions, not closures: a closure is a
@@ -95,13 +95,13 @@ fn block_rel(b: &TriBlock, r: &PreparedRay) -> [[__m256d; 3]; 3] {
 
 /// The scalar test of `Triangle::intersect` on the block's 4 lanes.
 #[inline(always)]
-fn block_test(b: &TriBlock, r: &PreparedRay, tmax: f32) -> Option<BlockHits> {
+fn block_test(b: &TriBlock, r: &PreparedRay, tmax: f32) -> Option<Hits<4>> {
     block_test_rel(&block_rel(b, r), r, tmax)
 }
 
 /// [`block_test`] from the vertices relative to the origin ([`block_rel`]).
 #[inline(always)]
-fn block_test_rel(rel: &[[__m256d; 3]; 3], r: &PreparedRay, tmax: f32) -> Option<BlockHits> {
+fn block_test_rel(rel: &[[__m256d; 3]; 3], r: &PreparedRay, tmax: f32) -> Option<Hits<4>> {
     // SAFETY: see the file's header (AVX2 is present wherever this is inlined).
     unsafe {
         let (sx, sy, sz) = (_mm256_set1_pd(r.shear[0]), _mm256_set1_pd(r.shear[1]), _mm256_set1_pd(r.shear[2]));
@@ -137,33 +137,25 @@ fn block_test_rel(rel: &[[__m256d; 3]; 3], r: &PreparedRay, tmax: f32) -> Option
         }
         let u = _mm256_cvtpd_ps(_mm256_mul_pd(ev, rcp));
         let v = _mm256_cvtpd_ps(_mm256_mul_pd(ew, rcp));
-        Some(BlockHits { mask, t: cast(t), u: cast(u), v: cast(v) })
+        Some(Hits { mask, t: cast(t), u: cast(u), v: cast(v) })
     }
 }
 
-/// Keeps in `best` the hits of `h` on block `b` closer than it.
+/// Keeps in `best` the hits of `h` (lane `l` has mesh id `ids[l]`) closer than it.
 #[inline(always)]
-fn keep_closest(h: &BlockHits, b: &TriBlock, best: &mut Hit) {
+pub(super) fn keep_closest<const L: usize>(h: &Hits<L>, ids: &[u32; L], best: &mut Hit) {
     let mut m = h.mask;
     while m != 0 {
         let l = m.trailing_zeros() as usize;
         m &= m - 1;
         // `is_closer` is a strict order on (t, id), so lane order does not matter.
-        if Hit::is_closer(h.t[l], b.ids[l], best) {
-            *best = Hit { t: h.t[l], u: h.u[l], v: h.v[l], prim: b.ids[l] };
+        if Hit::is_closer(h.t[l], ids[l], best) {
+            *best = Hit { t: h.t[l], u: h.u[l], v: h.v[l], prim: ids[l] };
         }
     }
 }
 
 impl Avx2 {
-    /// The lanes of `mask` whose axis order is the lowest lane's: with the packet's shared
-    /// origin, they share each block's vertices relative to it.
-    #[inline(always)]
-    pub(super) fn same_axis_order(mask: u32, pr: &[Option<PreparedRay>; PACKET]) -> u32 {
-        let k = lane(pr, mask.trailing_zeros() as usize).k;
-        lanes(mask).fold(0, |m, l| m | ((lane(pr, l).k == k) as u32) << l)
-    }
-
     /// [`Kernel::closest`] on block `b` for packet lanes `together`, which share their
     /// origin and axis order: the vertices relative to the origin once, the rest per lane
     /// (the numbers each lane computes alone, bit for bit).
@@ -181,7 +173,7 @@ impl Avx2 {
         for l in lanes(together) {
             let r = lane(pr, l);
             if let Some(h) = block_test_rel(&rel, r, best[l].t.min(r.ray.tmax)) {
-                keep_closest(&h, b, &mut best[l]);
+                keep_closest(&h, &b.ids, &mut best[l]);
             }
         }
     }
@@ -286,7 +278,7 @@ impl Kernel for Avx2 {
     #[inline(always)]
     fn closest(b: &TriBlock, r: &PreparedRay, best: &mut Hit) {
         if let Some(h) = block_test(b, r, best.t.min(r.ray.tmax)) {
-            keep_closest(&h, b, best);
+            keep_closest(&h, &b.ids, best);
         }
     }
 
@@ -299,7 +291,7 @@ impl Kernel for Avx2 {
         pr: &[Option<PreparedRay>; PACKET],
         best: &mut [Hit; PACKET],
     ) {
-        let together = Avx2::same_axis_order(mask, pr);
+        let together = same_axis_order(mask, pr);
         for b in blocks {
             Avx2::closest_block_lanes(b, together, pr, best);
         }

@@ -29,8 +29,8 @@
 #![allow(unsafe_code)]
 
 use super::block::TriBlock;
-use super::kernel::{lane, BoxRay, Kernel, Nears};
-use super::kernel_avx2::Avx2;
+use super::kernel::{lane, same_axis_order, BoxRay, Kernel, Nears};
+use super::kernel_avx2::{keep_closest, Avx2, Hits};
 use super::node::WideNode;
 use super::packet::{lanes, PACKET};
 use bytemuck::cast;
@@ -119,14 +119,6 @@ fn positive(x: __m512d) -> __mmask8 {
     unsafe { _mm512_cmp_pd_mask::<_CMP_GT_OQ>(x, _mm512_setzero_pd()) }
 }
 
-/// Lanes that hit within `[tmin, tmax]`, with their `t`, `u`, `v`.
-struct Hits<const L: usize> {
-    mask: u32,
-    t: [f32; L],
-    u: [f32; L],
-    v: [f32; L],
-}
-
 /// The three vertices of the 8 lanes of blocks `a` and `b` relative to the origin, in
 /// the ray's axis order: all of the test that rays with one origin and axis order share.
 #[inline(always)]
@@ -182,20 +174,6 @@ fn pair_test_rel(rel: &[[__m512d; 3]; 3], r: &PreparedRay, s: &[__m512d; 2], tma
 #[inline(always)]
 fn pair_ids(a: &TriBlock, b: &TriBlock) -> [u32; 8] {
     [a.ids[0], a.ids[1], a.ids[2], a.ids[3], b.ids[0], b.ids[1], b.ids[2], b.ids[3]]
-}
-
-/// Keeps in `best` the hits of `h` (lane `l` has mesh id `ids[l]`) closer than it.
-#[inline(always)]
-fn keep_closest<const L: usize>(h: &Hits<L>, ids: &[u32; L], best: &mut Hit) {
-    let mut m = h.mask;
-    while m != 0 {
-        let l = m.trailing_zeros() as usize;
-        m &= m - 1;
-        // `is_closer` is a strict order on (t, id), so lane order does not matter.
-        if Hit::is_closer(h.t[l], ids[l], best) {
-            *best = Hit { t: h.t[l], u: h.u[l], v: h.v[l], prim: ids[l] };
-        }
-    }
 }
 
 impl Kernel for Avx512 {
@@ -280,7 +258,7 @@ impl Kernel for Avx512 {
     ) {
         let first = lane(pr, mask.trailing_zeros() as usize);
         let shared = Ray8::new(first);
-        let together = Avx2::same_axis_order(mask, pr);
+        let together = same_axis_order(mask, pr);
         let mut pairs = blocks.chunks_exact(2);
         for p in &mut pairs {
             let (a, b) = (&p[0], &p[1]);
