@@ -19,6 +19,12 @@ pub struct BoxRay {
     /// Per axis, `inv` is negative (−0 directions give −∞): the ray enters a slab
     /// through its upper plane, so the SIMD kernels read `hi` as the near plane.
     pub neg: [bool; 3],
+    /// `inv × (1 − m)` and `inv × (1 + m)` ([`SLAB_MARGIN`] folded into the reciprocal):
+    /// where `tmin >= 0` the kernels scale near distances by the first and far ones by
+    /// the second, so the widening costs nothing per node.
+    pub inv_near: [f32; 3],
+    /// See `inv_near`.
+    pub inv_far: [f32; 3],
 }
 
 impl BoxRay {
@@ -32,7 +38,13 @@ impl BoxRay {
     /// The box constants from an origin and reciprocal direction.
     #[inline(always)]
     pub fn from_parts(org: [f32; 3], inv: [f32; 3]) -> Self {
-        Self { org, inv, neg: inv.map(|x| x.is_sign_negative()) }
+        Self {
+            org,
+            inv,
+            neg: inv.map(|x| x.is_sign_negative()),
+            inv_near: inv.map(|x| x * (1.0 - SLAB_MARGIN)),
+            inv_far: inv.map(|x| x * (1.0 + SLAB_MARGIN)),
+        }
     }
 }
 
@@ -42,14 +54,19 @@ pub type Nears = [f32; 8];
 /// The box and block tests, implemented once per instruction set.
 pub trait Kernel {
     /// Children of `node` whose widened box the ray enters within `[tmin, limit]`, as a
-    /// bit mask over lanes `0..node.count()`, with their entry distances in `near`. The
-    /// same test as `Aabb::clip` lane by lane (see [`Scalar::boxes`]).
+    /// bit mask over lanes `0..node.count()`, with their entry distances in `near`: the
+    /// test [`Scalar::boxes`] specifies, which every kernel reproduces bit for bit.
     ///
-    /// Where `tmin >= 0` the SIMD kernels widen without looking at signs, `near × (1 − m)`
-    /// and `far × (1 + m)`, and get the same mask and the same `near` bits
-    /// (the test `nonnegative_tmin_needs_no_sign_pick`): a near distance `≤ 0` is replaced by
-    /// `tmin` either way (or is ±0, which both factors keep), and a far distance `< 0`
-    /// rejects the box either way, since the clamped near distance is `≥ 0`.
+    /// Where `tmin < 0` it is `Aabb::clip` lane by lane: slab distances `(p − o) × inv`,
+    /// then near `× (1 ∓ m)` and far `× (1 ± m)` by their signs. Where `tmin >= 0` (nearly
+    /// every ray) the margin is folded into the reciprocal instead, near distances
+    /// `(p − o) × (inv × (1 − m))` and far ones `(p − o) × (inv × (1 + m))`, which takes
+    /// two multiplies and the sign picks off each node's dependency chain. It is as
+    /// conservative: the same four roundings (reciprocal, difference, product, margin
+    /// factor) in another order, each within 2⁻²⁴, against Ize's bound that `m` exceeds;
+    /// a near distance `≤ 0` is replaced by `tmin` either way, and a far distance `< 0`
+    /// (its sign is exact) rejects the box either way since the near one is `≥ 0`. The
+    /// test `box_test_is_conservative` holds both forms to exact arithmetic.
     fn boxes<N: WideNode>(node: &N, r: &BoxRay, tmin: f32, limit: f32, near: &mut Nears) -> u32;
 
     /// Keeps in `best` the closest hit of `best` and the block's triangles, as
@@ -146,6 +163,26 @@ impl Kernel for Scalar {
     #[inline(always)]
     fn boxes<N: WideNode>(node: &N, r: &BoxRay, tmin: f32, limit: f32, near: &mut Nears) -> u32 {
         let mut mask = 0;
+        if tmin >= 0.0 {
+            // `x > y ? x : y` and `x < y ? x : y` are x86's `maxps`/`minps`, the SIMD
+            // kernels' operations: a NaN slab (origin on the plane, direction parallel)
+            // leaves the interval as it was, and a NaN `limit` is ignored.
+            let limit = if limit.is_nan() { f32::INFINITY } else { limit };
+            for (i, near_i) in near.iter_mut().enumerate().take(node.count()) {
+                let (mut n, mut f) = (tmin, limit);
+                for a in 0..3 {
+                    let (near_plane, far_plane) =
+                        if r.neg[a] { (node.hi(a)[i], node.lo(a)[i]) } else { (node.lo(a)[i], node.hi(a)[i]) };
+                    let tn = (near_plane - r.org[a]) * r.inv_near[a];
+                    let tf = (far_plane - r.org[a]) * r.inv_far[a];
+                    n = if tn > n { tn } else { n };
+                    f = if tf < f { tf } else { f };
+                }
+                *near_i = n;
+                mask |= ((n <= f) as u32) << i;
+            }
+            return mask;
+        }
         for (i, near_i) in near.iter_mut().enumerate().take(node.count()) {
             let (mut n, mut f) = (f32::NEG_INFINITY, f32::INFINITY);
             for a in 0..3 {
@@ -503,8 +540,9 @@ mod tests {
     }
 
     /// Random boxes on a small integer grid (so rays start on box planes and run parallel
-    /// to them, where slabs are NaN) through both kernels and `Aabb::clip`.
-    fn check_boxes<N: WideNode>(kernel_boxes: impl Fn(&N, &BoxRay, f32, f32, &mut Nears) -> u32) {
+    /// to them, where slabs are NaN), then random boxes and rays, with intervals on both
+    /// sides of the kernels' `tmin >= 0` branch: `check(node, boxes, ray)`.
+    fn box_cases<N: WideNode>(mut check: impl FnMut(&N, &[Aabb], &Ray)) {
         let mut rng = SmallRng::seed_from_u64(5);
         let grid = |rng: &mut SmallRng| {
             Vec3::new(rng.gen_range(-3..=3) as f32, rng.gen_range(-3..=3) as f32, rng.gen_range(-3..=3) as f32)
@@ -527,71 +565,106 @@ mod tests {
                 };
                 (v(&mut rng), v(&mut rng))
             };
-            // Both widenings of the SIMD kernels: `tmin >= 0` (the first, fourth and fifth) and not.
+            // `tmin >= 0` (the first, fourth and fifth) and not.
             let tmin = [0.0, -1.0, f32::NEG_INFINITY, 0.5, -0.0, f32::NAN][i % 6];
             let limit = [f32::INFINITY, 1.0, 3.0, 0.25][(i / 6) % 4];
-            let ray = Ray::with_interval(o, d, tmin, limit);
-            let pr = PreparedRay::new(&ray);
-            let mut near = [0.0; 8];
-            let mask = kernel_boxes(&node, &BoxRay::new(&ray), tmin, limit, &mut near);
-            for (k, bx) in boxes.iter().enumerate() {
-                let want = bx.clip(&pr, tmin, limit);
-                assert_eq!(mask >> k & 1 == 1, want.is_some(), "box {bx:?} ray {ray:?}");
-                if let Some((n, _)) = want {
-                    // Equal as numbers (-0 and +0 may differ; entry distances are only compared).
-                    assert_eq!(near[k], n, "box {bx:?} ray {ray:?}");
-                }
-            }
-            assert_eq!(mask >> boxes.len(), 0, "unused lanes must never be entered");
+            check(&node, &boxes, &Ray::with_interval(o, d, tmin, limit));
         }
     }
 
-    /// The claim of `Kernel::boxes`: with `tmin >= 0`, widening near by `1 − m` and far by
-    /// `1 + m` whatever their signs gives the sign-picked widening's mask and near bits.
+    /// Every kernel computes the specification's mask and near distances.
+    fn check_boxes<N: WideNode>(kernel_boxes: impl Fn(&N, &BoxRay, f32, f32, &mut Nears) -> u32) {
+        box_cases::<N>(|node, boxes, ray| {
+            let (mut near, mut want_near) = ([0.0; 8], [0.0; 8]);
+            let br = BoxRay::new(ray);
+            let mask = kernel_boxes(node, &br, ray.tmin, ray.tmax, &mut near);
+            let want = Scalar::boxes(node, &br, ray.tmin, ray.tmax, &mut want_near);
+            assert_eq!(mask, want, "boxes {boxes:?} ray {ray:?}");
+            for k in (0..boxes.len()).filter(|&k| want >> k & 1 == 1) {
+                // Equal as numbers (-0 and +0 may differ; entry distances are only compared).
+                assert_eq!(near[k], want_near[k], "box {:?} ray {ray:?}", boxes[k]);
+            }
+        });
+    }
+
+    /// Where `tmin < 0` (or NaN) the specification is `Aabb::clip` lane by lane.
     #[test]
-    fn nonnegative_tmin_needs_no_sign_pick() {
-        let (lo_m, hi_m) = (1.0 - SLAB_MARGIN, 1.0 + SLAB_MARGIN);
-        let picked = |n: f32, f: f32, tmin: f32, limit: f32| {
-            let n = n * if n > 0.0 { lo_m } else { hi_m };
-            let f = f * if f > 0.0 { hi_m } else { lo_m };
-            let n = if tmin > n { tmin } else { n };
-            let f = if limit < f { limit } else { f };
-            (n.to_bits(), n <= f)
-        };
-        let plain = |n: f32, f: f32, tmin: f32, limit: f32| {
-            let (n, f) = (n * lo_m, f * hi_m);
-            let n = if tmin > n { tmin } else { n };
-            let f = if limit < f { limit } else { f };
-            (n.to_bits(), n <= f)
-        };
-        let mut rng = SmallRng::seed_from_u64(9);
-        let special = [0.0, -0.0, 1e-30, -1e-30, 1e-45, -1e-45, 0.5, -0.5, 3.0, -3.0, f32::INFINITY, f32::NEG_INFINITY];
-        let mut values: Vec<f32> = special.to_vec();
-        values.extend((0..200).map(|_| rng.gen_range(-10.0f32..10.0) * 10f32.powi(rng.gen_range(-8..8))));
-        for &tmin in &[0.0, -0.0, 1e-30, 0.5, 3.0] {
-            for &limit in &[f32::INFINITY, 3.0, 0.5, 0.0, -1.0, f32::NAN] {
-                for &n in &values {
-                    for &f in &values {
-                        assert_eq!(
-                            picked(n, f, tmin, limit),
-                            plain(n, f, tmin, limit),
-                            "n {n} f {f} tmin {tmin} limit {limit}"
-                        );
+    fn below_zero_tmin_box_test_is_aabb_clip() {
+        fn check<N: WideNode>() {
+            box_cases::<N>(|node, boxes, ray| {
+                if ray.tmin >= 0.0 {
+                    return;
+                }
+                let mut near = [0.0; 8];
+                let mask = Scalar::boxes(node, &BoxRay::new(ray), ray.tmin, ray.tmax, &mut near);
+                let pr = PreparedRay::new(ray);
+                for (k, bx) in boxes.iter().enumerate() {
+                    let want = bx.clip(&pr, ray.tmin, ray.tmax);
+                    assert_eq!(mask >> k & 1 == 1, want.is_some(), "box {bx:?} ray {ray:?}");
+                    if let Some((n, _)) = want {
+                        assert_eq!(near[k], n, "box {bx:?} ray {ray:?}");
                     }
                 }
-            }
+                assert_eq!(mask >> boxes.len(), 0, "unused lanes must never be entered");
+            });
         }
+        check::<Node4>();
+        check::<Node8>();
     }
 
+    /// Both forms of the box test against exact arithmetic: every box whose exact slab
+    /// interval, widened by half the margin, meets `[tmin, limit]` is entered, no later
+    /// than that widened entry. Half the margin is what stays for the triangle test's
+    /// own rounding once the box test's four roundings are paid.
     #[test]
-    fn scalar_box_test_matches_aabb_clip() {
-        check_boxes::<Node4>(Scalar::boxes);
-        check_boxes::<Node8>(Scalar::boxes);
+    fn box_test_is_conservative() {
+        const HALF: f64 = SLAB_MARGIN as f64 / 2.0;
+        let widen = |x: f64, up: bool| if x.is_finite() { x + if up { HALF } else { -HALF } * x.abs() } else { x };
+        fn check<N: WideNode>(widen: impl Fn(f64, bool) -> f64) {
+            let mut entered_by_margin = 0;
+            box_cases::<N>(|node, boxes, ray| {
+                if ray.tmin.is_nan() {
+                    return;
+                }
+                let mut near = [0.0; 8];
+                let mask = Scalar::boxes(node, &BoxRay::new(ray), ray.tmin, ray.tmax, &mut near);
+                let (o, d) = (ray.origin.to_array(), ray.dir.to_array());
+                for (k, bx) in boxes.iter().enumerate() {
+                    let (lo, hi) = (bx.min.to_array(), bx.max.to_array());
+                    let (mut n, mut f) = (f64::NEG_INFINITY, f64::INFINITY);
+                    for a in 0..3 {
+                        if d[a] == 0.0 {
+                            if o[a] < lo[a] || o[a] > hi[a] {
+                                f = f64::NEG_INFINITY;
+                            }
+                            continue;
+                        }
+                        // f32 differences are exact in f64 here; the quotient is within 2⁻⁵³.
+                        let t0 = (lo[a] as f64 - o[a] as f64) / d[a] as f64;
+                        let t1 = (hi[a] as f64 - o[a] as f64) / d[a] as f64;
+                        n = n.max(t0.min(t1));
+                        f = f.min(t0.max(t1));
+                    }
+                    let n = widen(n, false).max(ray.tmin as f64);
+                    let f = widen(f, true).min(ray.tmax as f64);
+                    if n <= f {
+                        assert_eq!(mask >> k & 1, 1, "box {bx:?} ray {ray:?}: exact [{n}, {f}]");
+                        assert!(near[k] as f64 <= n, "box {bx:?} ray {ray:?}: near {} after {n}", near[k]);
+                    } else if mask >> k & 1 == 1 {
+                        entered_by_margin += 1;
+                    }
+                }
+            });
+            // The margin admits a few boxes exact arithmetic would not, not many.
+            assert!(entered_by_margin < 300, "{entered_by_margin} boxes entered only by the margin");
+        }
+        check::<Node4>(widen);
+        check::<Node8>(widen);
     }
 
     #[cfg(target_arch = "x86_64")]
     #[test]
-    fn avx2_box_test_matches_aabb_clip() {
+    fn avx2_box_test_is_the_scalar_test() {
         use super::super::kernel_avx2::Avx2;
         if !std::arch::is_x86_feature_detected!("avx2") {
             eprintln!("skipped: this CPU has no AVX2");
@@ -603,7 +676,7 @@ mod tests {
 
     #[cfg(target_arch = "x86_64")]
     #[test]
-    fn avx512_box_test_matches_aabb_clip() {
+    fn avx512_box_test_is_the_scalar_test() {
         use super::super::kernel_avx512::Avx512;
         if !avx512_available() {
             eprintln!("skipped: this CPU lacks AVX-512 F and VL");

@@ -217,6 +217,22 @@ impl Kernel for Avx2 {
         unsafe {
             if N::W == 8 {
                 let load = |s: &[f32]| cast::<[f32; 8], __m256>(s.try_into().expect("8 lanes"));
+                if tmin >= 0.0 {
+                    // The margin folded into the reciprocal (see `Kernel::boxes`); the
+                    // start values, off the dependency chain, ignore a NaN `limit`.
+                    let mut n = _mm256_set1_ps(tmin);
+                    let mut f = _mm256_min_ps(_mm256_set1_ps(limit), _mm256_set1_ps(f32::INFINITY));
+                    for a in 0..3 {
+                        let o = _mm256_set1_ps(r.org[a]);
+                        let (near_plane, far_plane) = near_far(node, r, a);
+                        let tn = _mm256_mul_ps(_mm256_sub_ps(load(near_plane), o), _mm256_set1_ps(r.inv_near[a]));
+                        let tf = _mm256_mul_ps(_mm256_sub_ps(load(far_plane), o), _mm256_set1_ps(r.inv_far[a]));
+                        n = _mm256_max_ps(tn, n);
+                        f = _mm256_min_ps(tf, f);
+                    }
+                    *near = cast(n);
+                    return (_mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(n, f)) as u32) & valid;
+                }
                 let (mut n, mut f) = (_mm256_set1_ps(f32::NEG_INFINITY), _mm256_set1_ps(f32::INFINITY));
                 for a in 0..3 {
                     let (o, inv) = (_mm256_set1_ps(r.org[a]), _mm256_set1_ps(r.inv[a]));
@@ -229,16 +245,9 @@ impl Kernel for Avx2 {
                     f = _mm256_min_ps(tf, f);
                 }
                 let (lo_m, hi_m) = (1.0 - SLAB_MARGIN, 1.0 + SLAB_MARGIN);
-                // The usual interval (`tmin >= 0`) needs no sign pick: see `Kernel::boxes`.
-                let (n, f) = if tmin >= 0.0 {
-                    (_mm256_mul_ps(n, _mm256_set1_ps(lo_m)), _mm256_mul_ps(f, _mm256_set1_ps(hi_m)))
-                } else {
-                    let zero = _mm256_setzero_ps();
-                    (
-                        widen!(_mm256_cmp_ps, _mm256_blendv_ps, _mm256_set1_ps, _mm256_mul_ps, zero, n, lo_m, hi_m),
-                        widen!(_mm256_cmp_ps, _mm256_blendv_ps, _mm256_set1_ps, _mm256_mul_ps, zero, f, hi_m, lo_m),
-                    )
-                };
+                let zero = _mm256_setzero_ps();
+                let n = widen!(_mm256_cmp_ps, _mm256_blendv_ps, _mm256_set1_ps, _mm256_mul_ps, zero, n, lo_m, hi_m);
+                let f = widen!(_mm256_cmp_ps, _mm256_blendv_ps, _mm256_set1_ps, _mm256_mul_ps, zero, f, hi_m, lo_m);
                 // `maxps(tmin, n)` = `tmin > n ? tmin : n`; `minps(limit, f)` = `limit < f ? limit : f`.
                 let n = _mm256_max_ps(_mm256_set1_ps(tmin), n);
                 let f = _mm256_min_ps(_mm256_set1_ps(limit), f);
@@ -247,6 +256,21 @@ impl Kernel for Avx2 {
             } else {
                 debug_assert_eq!(N::W, 4);
                 let load = |s: &[f32]| cast::<[f32; 4], __m128>(s.try_into().expect("4 lanes"));
+                if tmin >= 0.0 {
+                    let mut n = _mm_set1_ps(tmin);
+                    let mut f = _mm_min_ps(_mm_set1_ps(limit), _mm_set1_ps(f32::INFINITY));
+                    for a in 0..3 {
+                        let o = _mm_set1_ps(r.org[a]);
+                        let (near_plane, far_plane) = near_far(node, r, a);
+                        let tn = _mm_mul_ps(_mm_sub_ps(load(near_plane), o), _mm_set1_ps(r.inv_near[a]));
+                        let tf = _mm_mul_ps(_mm_sub_ps(load(far_plane), o), _mm_set1_ps(r.inv_far[a]));
+                        n = _mm_max_ps(tn, n);
+                        f = _mm_min_ps(tf, f);
+                    }
+                    let n4: [f32; 4] = cast(n);
+                    near[..4].copy_from_slice(&n4);
+                    return (_mm_movemask_ps(_mm_cmp_ps::<_CMP_LE_OQ>(n, f)) as u32) & valid;
+                }
                 let (mut n, mut f) = (_mm_set1_ps(f32::NEG_INFINITY), _mm_set1_ps(f32::INFINITY));
                 for a in 0..3 {
                     let (o, inv) = (_mm_set1_ps(r.org[a]), _mm_set1_ps(r.inv[a]));
@@ -257,15 +281,9 @@ impl Kernel for Avx2 {
                     f = _mm_min_ps(tf, f);
                 }
                 let (lo_m, hi_m) = (1.0 - SLAB_MARGIN, 1.0 + SLAB_MARGIN);
-                let (n, f) = if tmin >= 0.0 {
-                    (_mm_mul_ps(n, _mm_set1_ps(lo_m)), _mm_mul_ps(f, _mm_set1_ps(hi_m)))
-                } else {
-                    let zero = _mm_setzero_ps();
-                    (
-                        widen!(_mm_cmp_ps, _mm_blendv_ps, _mm_set1_ps, _mm_mul_ps, zero, n, lo_m, hi_m),
-                        widen!(_mm_cmp_ps, _mm_blendv_ps, _mm_set1_ps, _mm_mul_ps, zero, f, hi_m, lo_m),
-                    )
-                };
+                let zero = _mm_setzero_ps();
+                let n = widen!(_mm_cmp_ps, _mm_blendv_ps, _mm_set1_ps, _mm_mul_ps, zero, n, lo_m, hi_m);
+                let f = widen!(_mm_cmp_ps, _mm_blendv_ps, _mm_set1_ps, _mm_mul_ps, zero, f, hi_m, lo_m);
                 let n = _mm_max_ps(_mm_set1_ps(tmin), n);
                 let f = _mm_min_ps(_mm_set1_ps(limit), f);
                 let n4: [f32; 4] = cast(n);

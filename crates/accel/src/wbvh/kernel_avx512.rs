@@ -187,33 +187,42 @@ impl Kernel for Avx512 {
         // SAFETY: see the file's header.
         unsafe {
             let load = |s: &[f32]| cast::<[f32; 8], __m256>(s.try_into().expect("8 lanes"));
-            let (mut n, mut f) = (_mm256_set1_ps(f32::NEG_INFINITY), _mm256_set1_ps(f32::INFINITY));
-            for a in 0..3 {
-                let (o, inv) = (_mm256_set1_ps(r.org[a]), _mm256_set1_ps(r.inv[a]));
-                let (near_plane, far_plane) =
-                    if r.neg[a] { (node.hi(a), node.lo(a)) } else { (node.lo(a), node.hi(a)) };
-                let tn = _mm256_mul_ps(_mm256_sub_ps(load(near_plane), o), inv);
-                let tf = _mm256_mul_ps(_mm256_sub_ps(load(far_plane), o), inv);
-                // NaN-ignoring as in the AVX2 kernel: `maxps(x, n)` is `n` for a NaN `x`.
-                n = _mm256_max_ps(tn, n);
-                f = _mm256_min_ps(tf, f);
-            }
-            // Widen outwards: `x * (1 ∓ m)` by the sign of `x`, the factor picked by mask;
-            // the usual interval (`tmin >= 0`) needs no pick (see `Kernel::boxes`).
-            let (lo_m, hi_m) = (_mm256_set1_ps(1.0 - SLAB_MARGIN), _mm256_set1_ps(1.0 + SLAB_MARGIN));
             let (n, f) = if tmin >= 0.0 {
-                (_mm256_mul_ps(n, lo_m), _mm256_mul_ps(f, hi_m))
+                // The margin folded into the reciprocal (see `Kernel::boxes`); the start
+                // values, off the dependency chain, ignore a NaN `limit`.
+                let mut n = _mm256_set1_ps(tmin);
+                let mut f = _mm256_min_ps(_mm256_set1_ps(limit), _mm256_set1_ps(f32::INFINITY));
+                for a in 0..3 {
+                    let o = _mm256_set1_ps(r.org[a]);
+                    let (near_plane, far_plane) =
+                        if r.neg[a] { (node.hi(a), node.lo(a)) } else { (node.lo(a), node.hi(a)) };
+                    let tn = _mm256_mul_ps(_mm256_sub_ps(load(near_plane), o), _mm256_set1_ps(r.inv_near[a]));
+                    let tf = _mm256_mul_ps(_mm256_sub_ps(load(far_plane), o), _mm256_set1_ps(r.inv_far[a]));
+                    // NaN-ignoring as in the AVX2 kernel: `maxps(x, n)` is `n` for a NaN `x`.
+                    n = _mm256_max_ps(tn, n);
+                    f = _mm256_min_ps(tf, f);
+                }
+                (n, f)
             } else {
+                let (mut n, mut f) = (_mm256_set1_ps(f32::NEG_INFINITY), _mm256_set1_ps(f32::INFINITY));
+                for a in 0..3 {
+                    let (o, inv) = (_mm256_set1_ps(r.org[a]), _mm256_set1_ps(r.inv[a]));
+                    let (near_plane, far_plane) =
+                        if r.neg[a] { (node.hi(a), node.lo(a)) } else { (node.lo(a), node.hi(a)) };
+                    let tn = _mm256_mul_ps(_mm256_sub_ps(load(near_plane), o), inv);
+                    let tf = _mm256_mul_ps(_mm256_sub_ps(load(far_plane), o), inv);
+                    n = _mm256_max_ps(tn, n);
+                    f = _mm256_min_ps(tf, f);
+                }
+                // Widen outwards: `x * (1 ∓ m)` by the sign of `x`, the factor picked by mask.
+                let (lo_m, hi_m) = (_mm256_set1_ps(1.0 - SLAB_MARGIN), _mm256_set1_ps(1.0 + SLAB_MARGIN));
                 let zero = _mm256_setzero_ps();
                 let n_pos = _mm256_cmp_ps_mask::<_CMP_GT_OQ>(n, zero);
                 let f_pos = _mm256_cmp_ps_mask::<_CMP_GT_OQ>(f, zero);
-                (
-                    _mm256_mul_ps(n, _mm256_mask_blend_ps(n_pos, hi_m, lo_m)),
-                    _mm256_mul_ps(f, _mm256_mask_blend_ps(f_pos, lo_m, hi_m)),
-                )
+                let n = _mm256_mul_ps(n, _mm256_mask_blend_ps(n_pos, hi_m, lo_m));
+                let f = _mm256_mul_ps(f, _mm256_mask_blend_ps(f_pos, lo_m, hi_m));
+                (_mm256_max_ps(_mm256_set1_ps(tmin), n), _mm256_min_ps(_mm256_set1_ps(limit), f))
             };
-            let n = _mm256_max_ps(_mm256_set1_ps(tmin), n);
-            let f = _mm256_min_ps(_mm256_set1_ps(limit), f);
             *near = cast(n);
             (_mm256_cmp_ps_mask::<_CMP_LE_OQ>(n, f) as u32) & valid
         }
