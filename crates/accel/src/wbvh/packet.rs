@@ -46,7 +46,8 @@ pub struct Packet {
     /// Lanes holding a ray.
     pub active: u32,
     /// Every active lane has `tmin >= 0` (the usual packet): the SIMD box tests then
-    /// widen without the sign pick, as `Kernel::boxes` explains.
+    /// widen by `1 ∓ m` without the sign pick: a near distance `<= 0` becomes `tmin` and
+    /// a far one `< 0` rejects the box either way.
     pub nonneg: bool,
 }
 

@@ -54,7 +54,7 @@ macro_rules! frustum {
             n = $max(n, $min($mul(de, imin), $mul(de, imax)));
             x = $min(x, $max($mul(dx, imin), $mul(dx, imax)));
         }
-        // Every lane starts at `tmin >= 0`: no sign pick (see `Kernel::boxes`).
+        // Every lane starts at `tmin >= 0`: no sign pick (see `Packet::nonneg`).
         let (n, x) = if f.tmin >= 0.0 {
             ($mul(n, $set1(1.0 - SLAB_MARGIN)), $mul(x, $set1(1.0 + SLAB_MARGIN)))
         } else {
@@ -71,7 +71,7 @@ macro_rules! frustum {
 }
 
 /// The lanes' entry and exit distances widened outwards as `Aabb::clip` widens them; a
-/// packet whose lanes all start at `tmin >= 0` needs no sign pick (see `Kernel::boxes`).
+/// packet whose lanes all start at `tmin >= 0` needs no sign pick (see `Packet::nonneg`).
 #[inline(always)]
 fn widen_lanes(p: &Packet, n: __m256, x: __m256) -> (__m256, __m256) {
     // SAFETY: see the file's header.
