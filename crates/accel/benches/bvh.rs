@@ -1,8 +1,9 @@
 //! BVH build time and ray throughput on the bunny and the full dragon (871k triangles):
 //! 1024×1024 pinhole rays from `Camera::framing`, traced on all cores. Two groups per
 //! model: `bvh/…`, the binary tree (`bvh2`) per preset, and `wbvh/…`, the wide tree that
-//! `bvh` names (build; primary rays one at a time and in packets of 8; any-hit; random
-//! rays from inside the box, the incoherent case).
+//! `bvh` names (build; primary rays one at a time and in packets of 8; any-hit on the same
+//! rays, one at a time and in packets of 8; random rays from inside the box, the
+//! incoherent case).
 //!
 //! Run: `cargo bench -p dynray-accel --bench bvh` (Mrays/s = rays / time per trace;
 //! criterion prints elements per second). Set `DYNRAY_SCENES` when the scenes are not at
@@ -118,6 +119,7 @@ fn bench_wide(c: &mut Criterion, name: &str, rel: &str) {
     g.bench_function("primary", |b| b.iter(|| w.intersect_batch(&rays)));
     g.bench_function("primary-packets", |b| b.iter(|| Coherent(&w).intersect_batch(&rays)));
     g.bench_function("occluded", |b| b.iter(|| w.occluded_batch(&rays)));
+    g.bench_function("occluded-packets", |b| b.iter(|| Coherent(&w).occluded_batch(&rays)));
     g.bench_function("random", |b| b.iter(|| w.intersect_batch(&random)));
     g.finish();
 }

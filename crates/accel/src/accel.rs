@@ -34,6 +34,18 @@ pub trait Accel: Send + Sync + std::any::Any {
         }
     }
 
+    /// [`Accel::occluded`] of rays the caller expects to be coherent (many rays from one
+    /// point: towards the samples of a light, over a hemisphere, from a light towards
+    /// surface points), exactly, as [`Accel::intersect_coherent_into`] for closest hits:
+    /// packets where the structure has them, one ray at a time by default. Panics unless
+    /// the lengths match.
+    fn occluded_coherent_into(&self, rays: &[Ray], out: &mut [bool]) {
+        crate::batch::check_batch_lengths(rays.len(), out.len());
+        for (r, o) in rays.iter().zip(out) {
+            *o = self.occluded(r);
+        }
+    }
+
     /// Closest hits of independent rays (any origins and directions) on the calling
     /// thread: `hits[i]` is exactly [`Accel::intersect`] of `rays[i]`. The default traces
     /// them one at a time; a structure may keep several rays in flight so that their

@@ -62,11 +62,12 @@ impl<T: Accel + ?Sized> BatchQuery for T {
     }
 }
 
-/// [`BatchQuery`] for rays the caller knows to be coherent (camera rays in pixel order):
-/// closest hits through [`Accel::intersect_coherent_into`] (packets where the structure
-/// has them), parallel over the same chunks of [`BATCH_CHUNK`] rays as the blanket
-/// implementation; any-hit queries one ray at a time. The answers are the blanket
-/// implementation's, bit for bit; only the speed differs.
+/// [`BatchQuery`] for rays the caller knows to be coherent (camera rays in pixel order,
+/// rays leaving one point): closest hits through [`Accel::intersect_coherent_into`] and
+/// any-hit queries through [`Accel::occluded_coherent_into`] (packets where the
+/// structure has them), parallel over the same chunks of [`BATCH_CHUNK`] rays as the
+/// blanket implementation. The answers are the blanket implementation's, bit for bit;
+/// only the speed differs.
 pub struct Coherent<'a, A: ?Sized>(pub &'a A);
 
 // Packets are groups of consecutive rays: a chunk boundary must not split one.
@@ -81,7 +82,10 @@ impl<A: Accel + ?Sized> BatchQuery for Coherent<'_, A> {
     }
 
     fn occluded_into(&self, rays: &[Ray], out: &mut [bool]) {
-        self.0.occluded_into(rays, out);
+        check_batch_lengths(rays.len(), out.len());
+        rays.par_chunks(BATCH_CHUNK)
+            .zip(out.par_chunks_mut(BATCH_CHUNK))
+            .for_each(|(rs, os)| self.0.occluded_coherent_into(rs, os));
     }
 }
 

@@ -1,6 +1,8 @@
 //! 8-ray packets through the wide BVH (`Wbvh::intersect_packet`,
 //! `Accel::intersect_coherent_into`) against its single rays, bit for bit (triangle, `t`,
-//! `u`, `v`), at both widths with every kernel: on the bunny and dragon oracle sets (each
+//! `u`, `v`), and any-hit packets (`Wbvh::occluded_packet`,
+//! `Accel::occluded_coherent_into`) against single-ray `occluded`,
+//! at both widths with every kernel: on the bunny and dragon oracle sets (each
 //! group of 8 rays given its first ray's origin, so lanes mix every direction and
 //! interval of the set), on camera packets checked against brute force as well, and on
 //! adversarial packets (mixed signs, zero components, origins on box planes and on
@@ -58,6 +60,50 @@ fn check_packets(w: &Wbvh, rays: &[Ray], label: &str) -> usize {
     got.iter().filter(|h| h.is_hit()).count()
 }
 
+/// Traces `rays` as any-hit packets of 8 consecutive rays and asserts each answer is the
+/// single ray's `occluded`; returns how many are occluded.
+fn check_occluded_packets(w: &Wbvh, rays: &[Ray], label: &str) -> usize {
+    let mut got = vec![false; rays.len()];
+    for (rs, os) in rays.chunks(8).zip(got.chunks_mut(8)) {
+        w.occluded_packet(rs, os);
+    }
+    let bad: Vec<usize> = (0..rays.len()).filter(|&i| got[i] != w.occluded(&rays[i])).collect();
+    let show: Vec<String> = bad
+        .iter()
+        .take(5)
+        .map(|&i| format!("  ray {i} {:?}: packet {}, single {}", rays[i], got[i], !got[i]))
+        .collect();
+    assert!(
+        bad.is_empty(),
+        "{label}: {} of {} any-hit packet answers differ from single rays\n{}",
+        bad.len(),
+        rays.len(),
+        show.join("\n")
+    );
+    got.iter().filter(|&&o| o).count()
+}
+
+/// `rays` (unbounded) with their intervals cut around their closest hits `hits`, in turn:
+/// ending exactly at the hit (occluded), one float before it (not: nothing is nearer),
+/// at half its distance (not), or left whole. With the brute-force answers of the cut rays.
+fn cut_at_hits(rays: &[Ray], hits: &[Hit]) -> (Vec<Ray>, Vec<bool>) {
+    let mut cut = rays.to_vec();
+    let mut want = Vec::with_capacity(rays.len());
+    for (i, (r, h)) in cut.iter_mut().zip(hits).enumerate() {
+        assert!(r.tmax == f32::INFINITY, "cut_at_hits takes unbounded rays");
+        if h.is_hit() {
+            r.tmax = match i % 4 {
+                0 => h.t,
+                1 => h.t.next_down(),
+                2 => h.t * 0.5,
+                _ => f32::INFINITY,
+            };
+        }
+        want.push(h.is_hit() && h.t <= r.tmax);
+    }
+    (cut, want)
+}
+
 /// Each group of 8 rays with its first ray's origin: packets whose lanes point anywhere.
 fn shared_origins(rays: &[Ray]) -> Vec<Ray> {
     let mut out = rays.to_vec();
@@ -107,6 +153,23 @@ fn check_model(mesh: &TriangleMesh, set: &[Ray], cameras: usize, name: &str) {
         let got = Coherent(&w as &dyn Accel).intersect_batch(set);
         let single = w.intersect_batch(set);
         assert!((0..set.len()).all(|i| same(&got[i], &single[i])), "{name} oracle set, coherent path ({label})");
+        // Any-hit packets: the shared-origin set, and the camera packets cut at their
+        // hits against brute force through the trait's coherent path.
+        let occluded = check_occluded_packets(&w, &incoherent, &format!("{name} oracle set, any hit ({label})"));
+        assert!(occluded > incoherent.len() / 10, "{name}: {occluded} occluded");
+        let (cut, want_occ) = cut_at_hits(&cams, &want);
+        let occluded = check_occluded_packets(&w, &cut, &format!("{name} camera packets cut at hits ({label})"));
+        assert!(
+            occluded > cut.len() / 8 && occluded < cut.len() * 7 / 8,
+            "{name}: {occluded} of {} occluded",
+            cut.len()
+        );
+        let got = Coherent(&w as &dyn Accel).occluded_batch(&cut);
+        let bad = (0..cut.len()).filter(|&i| got[i] != want_occ[i]).count();
+        assert_eq!(
+            bad, 0,
+            "{name} camera packets cut at hits ({label}): {bad} any-hit answers differ from brute force"
+        );
     }
 }
 
@@ -205,6 +268,15 @@ fn adversarial_packets_are_single_rays() {
             hits += g.is_hit() as usize;
         }
         assert!(hits > rays.len() / 5, "{label}: only {hits} of {} hit", rays.len());
+        let mut occ = vec![false; rays.len()];
+        let mut at = 0;
+        for &n in &sizes {
+            w.occluded_packet(&rays[at..at + n], &mut occ[at..at + n]);
+            at += n;
+        }
+        for (i, (r, o)) in rays.iter().zip(&occ).enumerate() {
+            assert_eq!(*o, w.occluded(r), "adversarial any hit ({label}): ray {i} {r:?}");
+        }
     }
     // And against brute force, through the coherent path of the trait (sizes aside).
     let want = brute_hits(&mesh, &rays);
@@ -212,6 +284,9 @@ fn adversarial_packets_are_single_rays() {
     let mut got = vec![Hit::MISS; rays.len()];
     w.intersect_coherent_into(&rays, &mut got);
     assert!((0..rays.len()).all(|i| same(&got[i], &want[i])), "coherent path vs brute force");
+    let mut occ = vec![false; rays.len()];
+    w.occluded_coherent_into(&rays, &mut occ);
+    assert!((0..rays.len()).all(|i| occ[i] == w.occluded(&rays[i])), "coherent any-hit path vs single rays");
 }
 
 #[test]
@@ -223,5 +298,8 @@ fn structures_without_packets_answer_coherent_queries_one_ray_at_a_time() {
     let mut got = vec![Hit::MISS; rays.len()];
     bvh.intersect_coherent_into(&rays, &mut got);
     assert!((0..rays.len()).all(|i| same(&got[i], &bvh.intersect(&rays[i]))));
+    let mut occ = vec![false; rays.len()];
+    bvh.occluded_coherent_into(&rays, &mut occ);
+    assert!((0..rays.len()).all(|i| occ[i] == bvh.occluded(&rays[i])));
     assert!(Wbvh::build(&mesh, &WbvhParams::default()).unwrap().traces_packets());
 }

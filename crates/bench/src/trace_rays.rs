@@ -165,9 +165,9 @@ pub fn run(job: &Job<'_>, notices: &mut dyn FnMut(Notice)) -> Result<Summary> {
         None => {
             let cpu = job.accel.build(&mesh, None).with_context(cannot_build)?;
             let build = t0.elapsed();
-            // Closest hits through the coherent path: groups of 8 consecutive rays with one
-            // origin (a camera's) go through the structure's packets where it has them;
-            // the answers are the single rays', bit for bit.
+            // Both queries through the coherent path: groups of 8 consecutive rays with one
+            // origin (a camera's, a point's towards a light) go through the structure's
+            // packets where it has them; the answers are the single rays', bit for bit.
             let (h, t, w) = trace_and_write(job, &Coherent(cpu.as_ref()), &rays, &mesh)?;
             (h, t, w, (cpu.name(), build))
         }

@@ -178,6 +178,29 @@ impl Wbvh {
         }
     }
 
+    /// Any-hit answers of up to [`PACKET`] rays traced as one packet: `out[i]` is
+    /// `self.occluded(&rays[i])`. As [`Wbvh::intersect_packet`], the rays sharing the
+    /// first ray's origin travel together and any other ray is traced alone.
+    /// Panics unless `rays.len() == out.len() <= PACKET`.
+    pub fn occluded_packet(&self, rays: &[Ray], out: &mut [bool]) {
+        let mut scratch = self.packet_scratch();
+        self.occluded_packet_in(rays, out, &mut scratch);
+    }
+
+    /// [`Wbvh::occluded_packet`] with `scratch` from [`Wbvh::packet_scratch`].
+    fn occluded_packet_in(&self, rays: &[Ray], out: &mut [bool], scratch: &mut packet_traverse::PacketScratch) {
+        crate::batch::check_batch_lengths(rays.len(), out.len());
+        let mut p = packet::Packet::new(rays);
+        if p.active.count_ones() >= 2 {
+            with_tree!(self, t => t.any_packet(rays, &p, out, scratch));
+        } else {
+            p.active = 0;
+        }
+        for l in packet::lanes(!p.active & ((1u32 << rays.len()) - 1)) {
+            out[l] = self.occluded(&rays[l]);
+        }
+    }
+
     /// Checks every invariant traversal relies on against `mesh` (see validate.rs).
     pub fn check_invariants(&self, mesh: &TriangleMesh) -> Result<validate::WbvhShape, InvalidWbvh> {
         with_tree!(self, t => t.check(mesh))
@@ -204,6 +227,16 @@ impl Accel for Wbvh {
         let mut scratch = self.packet_scratch();
         for (rs, hs) in rays.chunks(PACKET).zip(hits.chunks_mut(PACKET)) {
             self.intersect_packet_in(rs, hs, &mut scratch);
+        }
+    }
+
+    /// Packets of [`PACKET`] consecutive rays ([`Wbvh::occluded_packet`]), as
+    /// `intersect_coherent_into`.
+    fn occluded_coherent_into(&self, rays: &[Ray], out: &mut [bool]) {
+        crate::batch::check_batch_lengths(rays.len(), out.len());
+        let mut scratch = self.packet_scratch();
+        for (rs, os) in rays.chunks(PACKET).zip(out.chunks_mut(PACKET)) {
+            self.occluded_packet_in(rs, os, &mut scratch);
         }
     }
 

@@ -1,6 +1,7 @@
-//! The packet traversal of the wide tree (the kernels and the frustum are in packet.rs):
-//! children visited nearest first by the frustum's entry distance, each with the mask of
-//! the lanes that enter it; lanes left alone finish their subtree as single rays.
+//! The packet traversals of the wide tree (the kernels and the frustum are in packet.rs):
+//! closest hit, children visited nearest first by the frustum's entry distance, each with
+//! the mask of the lanes that enter it; any hit, children in lane order, each lane leaving
+//! the packet at its first hit. Lanes left alone finish their subtree as single rays.
 
 use super::kernel::{BoxRay, Kernel, Nears, Scalar};
 use super::node::{is_leaf, leaf_blocks, ChildRef, WideNode};
@@ -36,6 +37,9 @@ const ALONE: u32 = 1;
 pub struct PacketScratch {
     stack: Vec<Entry>,
     lane_stack: Vec<traverse::Entry>,
+    /// The any-hit walk's deferred children and the lanes entering each.
+    any_stack: Vec<(ChildRef, u32)>,
+    lane_any_stack: Vec<ChildRef>,
     pr: [Option<PreparedRay>; PACKET],
 }
 
@@ -45,6 +49,8 @@ impl PacketScratch {
         Self {
             stack: vec![Entry::default(); stack_need],
             lane_stack: vec![traverse::Entry::default(); stack_need],
+            any_stack: vec![(0, 0); stack_need],
+            lane_any_stack: vec![0; stack_need],
             pr: [None; PACKET],
         }
     }
@@ -123,7 +129,7 @@ impl<N: WideNode> WideTree<N> {
         hits: &mut [Hit],
         s: &mut PacketScratch,
     ) {
-        let PacketScratch { stack, lane_stack, pr } = s;
+        let PacketScratch { stack, lane_stack, pr, .. } = s;
         for l in lanes(p.active) {
             pr[l] = None;
         }
@@ -200,6 +206,172 @@ impl<N: WideNode> WideTree<N> {
         for l in lanes(p.active) {
             hits[l] = best[l];
         }
+    }
+
+    /// Any-hit answers of the active lanes of `p` (built from `rays`) into `out`, with the
+    /// kernel chosen at build time: `out[l]` is `any(rays[l])`. Lanes outside `p.active`
+    /// are left untouched.
+    #[allow(unsafe_code)]
+    pub(super) fn any_packet(&self, rays: &[Ray], p: &Packet, out: &mut [bool], s: &mut PacketScratch) {
+        assert!(s.any_stack.len() >= self.stack_need, "packet scratch made for another tree");
+        #[cfg(target_arch = "x86_64")]
+        match self.kernel {
+            // SAFETY: as in `closest_packet`.
+            super::kernel::KernelChoice::Avx512 => return unsafe { self.any_packet_avx512(rays, p, out, s) },
+            super::kernel::KernelChoice::Avx2 => return unsafe { self.any_packet_avx2(rays, p, out, s) },
+            super::kernel::KernelChoice::Scalar => {}
+        }
+        self.any_packet_ordered::<Scalar, Scalar>(rays, p, out, s)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    #[allow(unsafe_code)]
+    unsafe fn any_packet_avx2(&self, rays: &[Ray], p: &Packet, out: &mut [bool], s: &mut PacketScratch) {
+        use super::kernel_avx2::Avx2;
+        self.any_packet_ordered::<Avx2, Avx2>(rays, p, out, s)
+    }
+
+    /// As `closest_packet_avx512`: the AVX2 packet tests, the AVX-512 leaves.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,avx512f,avx512vl")]
+    #[allow(unsafe_code)]
+    unsafe fn any_packet_avx512(&self, rays: &[Ray], p: &Packet, out: &mut [bool], s: &mut PacketScratch) {
+        use super::kernel_avx2::Avx2;
+        use super::kernel_avx512::Avx512;
+        self.any_packet_ordered::<Avx512, Avx2>(rays, p, out, s)
+    }
+
+    #[inline(always)]
+    fn any_packet_ordered<K: Kernel, P: PacketKernel>(
+        &self,
+        rays: &[Ray],
+        p: &Packet,
+        out: &mut [bool],
+        s: &mut PacketScratch,
+    ) {
+        let mut limit: Lanes = [f32::NEG_INFINITY; PACKET];
+        for l in lanes(p.active) {
+            limit[l] = p.tmax[l];
+        }
+        let frustum = Frustum::new(p, &limit);
+        if frustum.sign.iter().all(|&s| s != 0) {
+            self.any_packet_in::<K, P, true>(rays, p, frustum, limit, out, s)
+        } else {
+            self.any_packet_in::<K, P, false>(rays, p, frustum, limit, out, s)
+        }
+    }
+
+    /// The any-hit packet walk: children in lane order (any hit ends a lane, so order buys
+    /// little, as in the single-ray walk), each with the lanes entering it; a lane that
+    /// hits leaves the packet (its limit drops to −∞, so the frustum shrinks to the lanes
+    /// still looking). Each lane tests exactly the boxes its single-ray box test accepts
+    /// (`PacketKernel::lanes`) and the leaves below them, so it finds a hit exactly when
+    /// its single ray does: the answer is a yes/no, whatever the order of the tests. The
+    /// stack holds at most `stack_need` entries, as the closest-hit walk's.
+    #[allow(clippy::too_many_arguments)] // the packet's state, as `closest_packet_in`
+    #[inline(always)]
+    fn any_packet_in<K: Kernel, P: PacketKernel, const ORDERED: bool>(
+        &self,
+        rays: &[Ray],
+        p: &Packet,
+        mut frustum: Frustum,
+        mut limit: Lanes,
+        out: &mut [bool],
+        s: &mut PacketScratch,
+    ) {
+        let PacketScratch { any_stack: stack, lane_any_stack, pr, .. } = s;
+        for l in lanes(p.active) {
+            pr[l] = None;
+        }
+        let mut done = 0u32;
+        let mut sp = 0usize;
+        let mut fnear: Nears = [0.0; 8];
+        let mut near: Lanes = [0.0; PACKET];
+        let (mut cur, mut mask): (ChildRef, u32) = (0, p.active);
+        'walk: loop {
+            if is_leaf(cur) {
+                let (first, count) = leaf_blocks(cur);
+                let blocks = &self.blocks[first..first + count];
+                for l in lanes(mask) {
+                    let r = traverse::prepared(&mut pr[l], &rays[l]);
+                    if K::any_leaf(blocks, r) {
+                        done |= 1 << l;
+                        limit[l] = f32::NEG_INFINITY;
+                    }
+                }
+                if done == p.active {
+                    break;
+                }
+            } else if mask.count_ones() <= ALONE {
+                for l in lanes(mask) {
+                    if self.any_lane::<K>(cur, l, &rays[l], p, &mut pr[l], lane_any_stack) {
+                        done |= 1 << l;
+                        limit[l] = f32::NEG_INFINITY;
+                    }
+                }
+                if done == p.active {
+                    break;
+                }
+            } else {
+                let node = &self.nodes[cur as usize];
+                frustum.limit = P::max_limit(&limit, mask);
+                let mut fm = P::frustum(node, &frustum, &mut fnear);
+                let start = sp;
+                while fm != 0 {
+                    let i = fm.trailing_zeros() as usize;
+                    fm &= fm - 1;
+                    let m = if ORDERED {
+                        P::lanes_ordered(node, i, p, &frustum.sign, &limit, mask, &mut near)
+                    } else {
+                        P::lanes(node, i, p, &limit, mask, &mut near)
+                    };
+                    if m != 0 {
+                        let child = node.child(i);
+                        self.prefetch_child::<K>(child);
+                        stack[sp] = (child, m);
+                        sp += 1;
+                    }
+                }
+                if sp > start {
+                    sp -= 1;
+                    (cur, mask) = stack[sp];
+                    continue;
+                }
+            }
+            // Pop the next child some lane still looking enters.
+            while sp > 0 {
+                sp -= 1;
+                let (node, m) = stack[sp];
+                if m & !done != 0 {
+                    (cur, mask) = (node, m & !done);
+                    continue 'walk;
+                }
+            }
+            break;
+        }
+        for l in lanes(p.active) {
+            out[l] = done >> l & 1 == 1;
+        }
+    }
+
+    /// Lane `l` alone through the subtree under the interior node `root`: the single-ray
+    /// any-hit walk of traverse.rs ([`WideTree::any_below`]) with the packet's box
+    /// constants for the lane.
+    #[allow(clippy::too_many_arguments)] // the lane's share of the packet's state
+    #[inline(always)]
+    fn any_lane<K: Kernel>(
+        &self,
+        root: ChildRef,
+        l: usize,
+        ray: &Ray,
+        p: &Packet,
+        pr: &mut Option<PreparedRay>,
+        stack: &mut [ChildRef],
+    ) -> bool {
+        let br = BoxRay::from_parts(p.org, [p.inv[0][l], p.inv[1][l], p.inv[2][l]]);
+        let below = Below { root, ray, br: &br, tmin: p.tmin[l], tmax: p.tmax[l] };
+        self.any_below::<K, NoCount>(&below, pr, stack, &mut NoCount)
     }
 
     /// Lane `l` (ray `ray`) alone through the subtree under the interior node `root`,

@@ -282,15 +282,28 @@ impl<N: WideNode> WideTree<N> {
     /// The any-hit walk of `ray` on `stack` (at least `stack_need` entries).
     #[inline(always)]
     pub(super) fn any_on<K: Kernel, C: Counter>(&self, ray: &Ray, stack: &mut [ChildRef], c: &mut C) -> bool {
-        let br = BoxRay::new(ray);
-        let (tmin, tmax) = (ray.tmin, ray.tmax);
-        let mut pr: Option<PreparedRay> = None;
+        let b = Below { root: 0, ray, br: &BoxRay::new(ray), tmin: ray.tmin, tmax: ray.tmax };
+        self.any_below::<K, C>(&b, &mut None, stack, c)
+    }
+
+    /// True when the ray hits a triangle of the subtree `b.root` within its interval, as
+    /// the any-hit walk from the root decides it there (also how a packet's lane finishes
+    /// a subtree alone): `pr` is filled at the first leaf.
+    #[inline(always)]
+    pub(super) fn any_below<K: Kernel, C: Counter>(
+        &self,
+        b: &Below<'_>,
+        pr: &mut Option<PreparedRay>,
+        stack: &mut [ChildRef],
+        c: &mut C,
+    ) -> bool {
+        let (ray, br, tmin, tmax) = (b.ray, b.br, b.tmin, b.tmax);
         let mut sp = 0usize;
         let mut near: Nears = [0.0; 8];
-        let mut cur: ChildRef = 0;
+        let mut cur: ChildRef = b.root;
         loop {
             if is_leaf(cur) {
-                let pr = prepared(&mut pr, ray);
+                let pr = prepared(pr, ray);
                 let (first, count) = leaf_blocks(cur);
                 c.triangles(4 * count as u32);
                 if K::any_leaf(&self.blocks[first..first + count], pr) {
@@ -299,7 +312,7 @@ impl<N: WideNode> WideTree<N> {
             } else {
                 let node = &self.nodes[cur as usize];
                 c.node();
-                let m = K::boxes(node, &br, tmin, tmax, &mut near);
+                let m = K::boxes(node, br, tmin, tmax, &mut near);
                 if m != 0 {
                     cur = self.push_any::<K>(node, m, stack, &mut sp);
                     continue;
