@@ -56,6 +56,17 @@ impl PacketScratch {
     }
 }
 
+/// Where both packet walks start: each lane's limit (its `tmax`; −∞ outside the packet,
+/// so those lanes enter nothing) and the packet's frustum.
+#[inline(always)]
+fn start(p: &Packet) -> (Lanes, Frustum) {
+    let mut limit: Lanes = [f32::NEG_INFINITY; PACKET];
+    for l in lanes(p.active) {
+        limit[l] = p.tmax[l];
+    }
+    (limit, Frustum::new(p, &limit))
+}
+
 impl<N: WideNode> WideTree<N> {
     /// Closest hits of the active lanes of `p` (built from `rays`) into `hits`, with the
     /// kernel chosen at build time. Lanes outside `p.active` are left untouched.
@@ -103,11 +114,7 @@ impl<N: WideNode> WideTree<N> {
         hits: &mut [Hit],
         s: &mut PacketScratch,
     ) {
-        let mut limit: Lanes = [f32::NEG_INFINITY; PACKET];
-        for l in lanes(p.active) {
-            limit[l] = p.tmax[l];
-        }
-        let frustum = Frustum::new(p, &limit);
+        let (limit, frustum) = start(p);
         if frustum.sign.iter().all(|&s| s != 0) {
             self.closest_packet_in::<K, P, true>(rays, p, frustum, limit, hits, s)
         } else {
@@ -250,11 +257,7 @@ impl<N: WideNode> WideTree<N> {
         out: &mut [bool],
         s: &mut PacketScratch,
     ) {
-        let mut limit: Lanes = [f32::NEG_INFINITY; PACKET];
-        for l in lanes(p.active) {
-            limit[l] = p.tmax[l];
-        }
-        let frustum = Frustum::new(p, &limit);
+        let (limit, frustum) = start(p);
         if frustum.sign.iter().all(|&s| s != 0) {
             self.any_packet_in::<K, P, true>(rays, p, frustum, limit, out, s)
         } else {
