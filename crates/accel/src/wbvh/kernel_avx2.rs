@@ -209,86 +209,93 @@ macro_rules! widen {
     }};
 }
 
+/// The box test of `Kernel::boxes` on one register of children (`$ty`: `__m256` for 8,
+/// `__m128` for 4; `$arr` the matching array), written once for both widths as the
+/// packet kernel's `frustum!` is. Each axis reads its near and far planes by the sign of
+/// the ray's direction; `maxps(x, n)` is `n` when `x` is NaN, so a NaN slab leaves the
+/// interval as it was, as the scalar kernel's `or_if_nan` does.
+macro_rules! boxes {
+    ($node:expr, $r:expr, $tmin:expr, $limit:expr, $near:expr, $ty:ty, $set1:ident, $sub:ident, $mul:ident,
+     $min:ident, $max:ident, $cmp:ident, $blend:ident, $zero:ident, $movemask:ident, $arr:ty) => {{
+        let (node, r, tmin, limit): (&_, &BoxRay, f32, f32) = ($node, $r, $tmin, $limit);
+        let load = |s: &[f32]| cast::<$arr, $ty>(s.try_into().expect("node lanes"));
+        let (n, f) = if tmin >= 0.0 {
+            // The margin folded into the reciprocal (see `Kernel::boxes`); the start
+            // values, off the dependency chain, ignore a NaN `limit`.
+            let (mut n, mut f) = ($set1(tmin), $min($set1(limit), $set1(f32::INFINITY)));
+            for a in 0..3 {
+                let o = $set1(r.org[a]);
+                let (near_plane, far_plane) = near_far(node, r, a);
+                n = $max($mul($sub(load(near_plane), o), $set1(r.inv_near[a])), n);
+                f = $min($mul($sub(load(far_plane), o), $set1(r.inv_far[a])), f);
+            }
+            (n, f)
+        } else {
+            let (mut n, mut f) = ($set1(f32::NEG_INFINITY), $set1(f32::INFINITY));
+            for a in 0..3 {
+                let (o, inv) = ($set1(r.org[a]), $set1(r.inv[a]));
+                let (near_plane, far_plane) = near_far(node, r, a);
+                n = $max($mul($sub(load(near_plane), o), inv), n);
+                f = $min($mul($sub(load(far_plane), o), inv), f);
+            }
+            let (lo_m, hi_m) = (1.0 - SLAB_MARGIN, 1.0 + SLAB_MARGIN);
+            let zero = $zero();
+            let n = widen!($cmp, $blend, $set1, $mul, zero, n, lo_m, hi_m);
+            let f = widen!($cmp, $blend, $set1, $mul, zero, f, hi_m, lo_m);
+            // `maxps(tmin, n)` = `tmin > n ? tmin : n`; `minps(limit, f)` = `limit < f ? limit : f`.
+            ($max($set1(tmin), n), $min($set1(limit), f))
+        };
+        let out: $arr = cast(n);
+        $near[..out.len()].copy_from_slice(&out);
+        let valid = (1u32 << node.count()) - 1;
+        ($movemask($cmp::<_CMP_LE_OQ>(n, f)) as u32) & valid
+    }};
+}
+
 impl Kernel for Avx2 {
     #[inline(always)]
     fn boxes<N: WideNode>(node: &N, r: &BoxRay, tmin: f32, limit: f32, near: &mut Nears) -> u32 {
-        let valid = (1u32 << node.count()) - 1;
         // SAFETY: see the file's header.
         unsafe {
             if N::W == 8 {
-                let load = |s: &[f32]| cast::<[f32; 8], __m256>(s.try_into().expect("8 lanes"));
-                if tmin >= 0.0 {
-                    // The margin folded into the reciprocal (see `Kernel::boxes`); the
-                    // start values, off the dependency chain, ignore a NaN `limit`.
-                    let mut n = _mm256_set1_ps(tmin);
-                    let mut f = _mm256_min_ps(_mm256_set1_ps(limit), _mm256_set1_ps(f32::INFINITY));
-                    for a in 0..3 {
-                        let o = _mm256_set1_ps(r.org[a]);
-                        let (near_plane, far_plane) = near_far(node, r, a);
-                        let tn = _mm256_mul_ps(_mm256_sub_ps(load(near_plane), o), _mm256_set1_ps(r.inv_near[a]));
-                        let tf = _mm256_mul_ps(_mm256_sub_ps(load(far_plane), o), _mm256_set1_ps(r.inv_far[a]));
-                        n = _mm256_max_ps(tn, n);
-                        f = _mm256_min_ps(tf, f);
-                    }
-                    *near = cast(n);
-                    return (_mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(n, f)) as u32) & valid;
-                }
-                let (mut n, mut f) = (_mm256_set1_ps(f32::NEG_INFINITY), _mm256_set1_ps(f32::INFINITY));
-                for a in 0..3 {
-                    let (o, inv) = (_mm256_set1_ps(r.org[a]), _mm256_set1_ps(r.inv[a]));
-                    let (near_plane, far_plane) = near_far(node, r, a);
-                    let tn = _mm256_mul_ps(_mm256_sub_ps(load(near_plane), o), inv);
-                    let tf = _mm256_mul_ps(_mm256_sub_ps(load(far_plane), o), inv);
-                    // `maxps(x, n)` is `n` when `x` is NaN: a NaN slab leaves the interval
-                    // as it was, as the scalar kernel's `or_if_nan` does.
-                    n = _mm256_max_ps(tn, n);
-                    f = _mm256_min_ps(tf, f);
-                }
-                let (lo_m, hi_m) = (1.0 - SLAB_MARGIN, 1.0 + SLAB_MARGIN);
-                let zero = _mm256_setzero_ps();
-                let n = widen!(_mm256_cmp_ps, _mm256_blendv_ps, _mm256_set1_ps, _mm256_mul_ps, zero, n, lo_m, hi_m);
-                let f = widen!(_mm256_cmp_ps, _mm256_blendv_ps, _mm256_set1_ps, _mm256_mul_ps, zero, f, hi_m, lo_m);
-                // `maxps(tmin, n)` = `tmin > n ? tmin : n`; `minps(limit, f)` = `limit < f ? limit : f`.
-                let n = _mm256_max_ps(_mm256_set1_ps(tmin), n);
-                let f = _mm256_min_ps(_mm256_set1_ps(limit), f);
-                *near = cast(n);
-                (_mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(n, f)) as u32) & valid
+                boxes!(
+                    node,
+                    r,
+                    tmin,
+                    limit,
+                    near,
+                    __m256,
+                    _mm256_set1_ps,
+                    _mm256_sub_ps,
+                    _mm256_mul_ps,
+                    _mm256_min_ps,
+                    _mm256_max_ps,
+                    _mm256_cmp_ps,
+                    _mm256_blendv_ps,
+                    _mm256_setzero_ps,
+                    _mm256_movemask_ps,
+                    [f32; 8]
+                )
             } else {
                 debug_assert_eq!(N::W, 4);
-                let load = |s: &[f32]| cast::<[f32; 4], __m128>(s.try_into().expect("4 lanes"));
-                if tmin >= 0.0 {
-                    let mut n = _mm_set1_ps(tmin);
-                    let mut f = _mm_min_ps(_mm_set1_ps(limit), _mm_set1_ps(f32::INFINITY));
-                    for a in 0..3 {
-                        let o = _mm_set1_ps(r.org[a]);
-                        let (near_plane, far_plane) = near_far(node, r, a);
-                        let tn = _mm_mul_ps(_mm_sub_ps(load(near_plane), o), _mm_set1_ps(r.inv_near[a]));
-                        let tf = _mm_mul_ps(_mm_sub_ps(load(far_plane), o), _mm_set1_ps(r.inv_far[a]));
-                        n = _mm_max_ps(tn, n);
-                        f = _mm_min_ps(tf, f);
-                    }
-                    let n4: [f32; 4] = cast(n);
-                    near[..4].copy_from_slice(&n4);
-                    return (_mm_movemask_ps(_mm_cmp_ps::<_CMP_LE_OQ>(n, f)) as u32) & valid;
-                }
-                let (mut n, mut f) = (_mm_set1_ps(f32::NEG_INFINITY), _mm_set1_ps(f32::INFINITY));
-                for a in 0..3 {
-                    let (o, inv) = (_mm_set1_ps(r.org[a]), _mm_set1_ps(r.inv[a]));
-                    let (near_plane, far_plane) = near_far(node, r, a);
-                    let tn = _mm_mul_ps(_mm_sub_ps(load(near_plane), o), inv);
-                    let tf = _mm_mul_ps(_mm_sub_ps(load(far_plane), o), inv);
-                    n = _mm_max_ps(tn, n);
-                    f = _mm_min_ps(tf, f);
-                }
-                let (lo_m, hi_m) = (1.0 - SLAB_MARGIN, 1.0 + SLAB_MARGIN);
-                let zero = _mm_setzero_ps();
-                let n = widen!(_mm_cmp_ps, _mm_blendv_ps, _mm_set1_ps, _mm_mul_ps, zero, n, lo_m, hi_m);
-                let f = widen!(_mm_cmp_ps, _mm_blendv_ps, _mm_set1_ps, _mm_mul_ps, zero, f, hi_m, lo_m);
-                let n = _mm_max_ps(_mm_set1_ps(tmin), n);
-                let f = _mm_min_ps(_mm_set1_ps(limit), f);
-                let n4: [f32; 4] = cast(n);
-                near[..4].copy_from_slice(&n4);
-                (_mm_movemask_ps(_mm_cmp_ps::<_CMP_LE_OQ>(n, f)) as u32) & valid
+                boxes!(
+                    node,
+                    r,
+                    tmin,
+                    limit,
+                    near,
+                    __m128,
+                    _mm_set1_ps,
+                    _mm_sub_ps,
+                    _mm_mul_ps,
+                    _mm_min_ps,
+                    _mm_max_ps,
+                    _mm_cmp_ps,
+                    _mm_blendv_ps,
+                    _mm_setzero_ps,
+                    _mm_movemask_ps,
+                    [f32; 4]
+                )
             }
         }
     }
