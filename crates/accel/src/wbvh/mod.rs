@@ -45,6 +45,7 @@ pub use validate::InvalidWbvh;
 use crate::{Accel, AccelStats, BuildError, Bvh, BvhNode, InvalidStructure, NoCount, TraversalCounts};
 use dynray_geom::{Hit, Ray, TriangleMesh};
 pub(crate) use kernel::KernelChoice;
+use packet_traverse::{AnyHits, ClosestHits, PacketScratch, PacketWalk};
 
 /// A wide BVH over one mesh, 4 or 8 children per node ([`WbvhParams::width`]).
 #[derive(Clone, Debug)]
@@ -154,28 +155,7 @@ impl Wbvh {
     /// NaN in it, a non-finite origin) is traced alone, and so is a packet of one.
     /// Panics unless `rays.len() == hits.len() <= PACKET`.
     pub fn intersect_packet(&self, rays: &[Ray], hits: &mut [Hit]) {
-        let mut scratch = self.packet_scratch();
-        self.intersect_packet_in(rays, hits, &mut scratch);
-    }
-
-    /// Working memory for packets of this tree (`intersect_coherent_into` makes one per
-    /// batch).
-    fn packet_scratch(&self) -> packet_traverse::PacketScratch {
-        with_tree!(self, t => packet_traverse::PacketScratch::new(t.stack_need))
-    }
-
-    /// [`Wbvh::intersect_packet`] with `scratch` from [`Wbvh::packet_scratch`].
-    fn intersect_packet_in(&self, rays: &[Ray], hits: &mut [Hit], scratch: &mut packet_traverse::PacketScratch) {
-        crate::batch::check_batch_lengths(rays.len(), hits.len());
-        let mut p = packet::Packet::new(rays);
-        if p.active.count_ones() >= 2 {
-            with_tree!(self, t => t.closest_packet(rays, &p, hits, scratch));
-        } else {
-            p.active = 0;
-        }
-        for l in packet::lanes(!p.active & ((1u32 << rays.len()) - 1)) {
-            hits[l] = self.intersect(&rays[l]);
-        }
+        self.packet_in::<ClosestHits>(rays, hits, &mut self.packet_scratch(), |r| self.intersect(r));
     }
 
     /// Any-hit answers of up to [`PACKET`] rays traced as one packet: `out[i]` is
@@ -183,21 +163,42 @@ impl Wbvh {
     /// first ray's origin travel together and any other ray is traced alone.
     /// Panics unless `rays.len() == out.len() <= PACKET`.
     pub fn occluded_packet(&self, rays: &[Ray], out: &mut [bool]) {
-        let mut scratch = self.packet_scratch();
-        self.occluded_packet_in(rays, out, &mut scratch);
+        self.packet_in::<AnyHits>(rays, out, &mut self.packet_scratch(), |r| self.occluded(r));
     }
 
-    /// [`Wbvh::occluded_packet`] with `scratch` from [`Wbvh::packet_scratch`].
-    fn occluded_packet_in(&self, rays: &[Ray], out: &mut [bool], scratch: &mut packet_traverse::PacketScratch) {
+    /// Working memory for packets of this tree (`coherent_in` makes one per batch).
+    fn packet_scratch(&self) -> PacketScratch {
+        with_tree!(self, t => PacketScratch::new(t.stack_need))
+    }
+
+    /// Up to [`PACKET`] rays through walk `Q` as one packet (the lanes that can travel
+    /// together) and the others through `alone`, the single-ray query `Q` stands for.
+    fn packet_in<Q: PacketWalk>(
+        &self,
+        rays: &[Ray],
+        out: &mut [Q::Out],
+        scratch: &mut PacketScratch,
+        alone: impl Fn(&Ray) -> Q::Out,
+    ) {
         crate::batch::check_batch_lengths(rays.len(), out.len());
         let mut p = packet::Packet::new(rays);
         if p.active.count_ones() >= 2 {
-            with_tree!(self, t => t.any_packet(rays, &p, out, scratch));
+            with_tree!(self, t => t.packet::<Q>(rays, &p, out, scratch));
         } else {
             p.active = 0;
         }
         for l in packet::lanes(!p.active & ((1u32 << rays.len()) - 1)) {
-            out[l] = self.occluded(&rays[l]);
+            out[l] = alone(&rays[l]);
+        }
+    }
+
+    /// A coherent batch through walk `Q`: packets of [`PACKET`] consecutive rays on one
+    /// scratch, as [`Wbvh::packet_in`] traces each.
+    fn coherent_in<Q: PacketWalk>(&self, rays: &[Ray], out: &mut [Q::Out], alone: impl Fn(&Ray) -> Q::Out + Copy) {
+        crate::batch::check_batch_lengths(rays.len(), out.len());
+        let mut scratch = self.packet_scratch();
+        for (rs, os) in rays.chunks(PACKET).zip(out.chunks_mut(PACKET)) {
+            self.packet_in::<Q>(rs, os, &mut scratch, alone);
         }
     }
 
@@ -223,21 +224,13 @@ impl Accel for Wbvh {
     /// Packets of [`PACKET`] consecutive rays ([`Wbvh::intersect_packet`]): a group whose
     /// rays share one origin travels together, other rays alone.
     fn intersect_coherent_into(&self, rays: &[Ray], hits: &mut [Hit]) {
-        crate::batch::check_batch_lengths(rays.len(), hits.len());
-        let mut scratch = self.packet_scratch();
-        for (rs, hs) in rays.chunks(PACKET).zip(hits.chunks_mut(PACKET)) {
-            self.intersect_packet_in(rs, hs, &mut scratch);
-        }
+        self.coherent_in::<ClosestHits>(rays, hits, |r| self.intersect(r));
     }
 
     /// Packets of [`PACKET`] consecutive rays ([`Wbvh::occluded_packet`]), as
     /// `intersect_coherent_into`.
     fn occluded_coherent_into(&self, rays: &[Ray], out: &mut [bool]) {
-        crate::batch::check_batch_lengths(rays.len(), out.len());
-        let mut scratch = self.packet_scratch();
-        for (rs, os) in rays.chunks(PACKET).zip(out.chunks_mut(PACKET)) {
-            self.occluded_packet_in(rs, os, &mut scratch);
-        }
+        self.coherent_in::<AnyHits>(rays, out, |r| self.occluded(r));
     }
 
     fn traces_packets(&self) -> bool {

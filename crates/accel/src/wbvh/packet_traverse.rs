@@ -56,6 +56,62 @@ impl PacketScratch {
     }
 }
 
+/// What a packet walk answers per lane, so that one kernel dispatch and one frustum
+/// set-up ([`WideTree::packet`]) serve the closest-hit and the any-hit walk.
+pub(super) trait PacketWalk {
+    /// A lane's answer.
+    type Out;
+    /// The walk of `p` from the root, `limit` and `frustum` as [`start`] makes them.
+    #[allow(clippy::too_many_arguments)] // the packet's state, as the walks take it
+    fn walk<N: WideNode, K: Kernel, P: PacketKernel, const ORDERED: bool>(
+        tree: &WideTree<N>,
+        rays: &[Ray],
+        p: &Packet,
+        frustum: Frustum,
+        limit: Lanes,
+        out: &mut [Self::Out],
+        s: &mut PacketScratch,
+    );
+}
+
+/// Closest hits ([`WideTree::closest_packet_in`]): `out[l]` is `closest(rays[l])`.
+pub(super) struct ClosestHits;
+
+/// Any-hit flags ([`WideTree::any_packet_in`]): `out[l]` is `any(rays[l])`.
+pub(super) struct AnyHits;
+
+impl PacketWalk for ClosestHits {
+    type Out = Hit;
+    #[inline(always)]
+    fn walk<N: WideNode, K: Kernel, P: PacketKernel, const ORDERED: bool>(
+        tree: &WideTree<N>,
+        rays: &[Ray],
+        p: &Packet,
+        frustum: Frustum,
+        limit: Lanes,
+        out: &mut [Hit],
+        s: &mut PacketScratch,
+    ) {
+        tree.closest_packet_in::<K, P, ORDERED>(rays, p, frustum, limit, out, s)
+    }
+}
+
+impl PacketWalk for AnyHits {
+    type Out = bool;
+    #[inline(always)]
+    fn walk<N: WideNode, K: Kernel, P: PacketKernel, const ORDERED: bool>(
+        tree: &WideTree<N>,
+        rays: &[Ray],
+        p: &Packet,
+        frustum: Frustum,
+        limit: Lanes,
+        out: &mut [bool],
+        s: &mut PacketScratch,
+    ) {
+        tree.any_packet_in::<K, P, ORDERED>(rays, p, frustum, limit, out, s)
+    }
+}
+
 /// Where both packet walks start: each lane's limit (its `tmax`; −∞ outside the packet,
 /// so those lanes enter nothing) and the packet's frustum.
 #[inline(always)]
@@ -68,28 +124,30 @@ fn start(p: &Packet) -> (Lanes, Frustum) {
 }
 
 impl<N: WideNode> WideTree<N> {
-    /// Closest hits of the active lanes of `p` (built from `rays`) into `hits`, with the
-    /// kernel chosen at build time. Lanes outside `p.active` are left untouched.
+    /// The answers of walk `Q` (closest hits or any-hit flags) for the active lanes of `p`
+    /// (built from `rays`) into `out`, with the kernel chosen at build time. Lanes outside
+    /// `p.active` are left untouched.
     #[allow(unsafe_code)]
-    pub(super) fn closest_packet(&self, rays: &[Ray], p: &Packet, hits: &mut [Hit], s: &mut PacketScratch) {
+    pub(super) fn packet<Q: PacketWalk>(&self, rays: &[Ray], p: &Packet, out: &mut [Q::Out], s: &mut PacketScratch) {
+        // Every stack of the scratch is made `stack_need` long together.
         assert!(s.stack.len() >= self.stack_need, "packet scratch made for another tree");
         #[cfg(target_arch = "x86_64")]
         match self.kernel {
             // SAFETY: `KernelChoice::Avx512` is only chosen when AVX2, AVX-512 F and VL
             // were detected, `Avx2` when AVX2 was.
-            super::kernel::KernelChoice::Avx512 => return unsafe { self.closest_packet_avx512(rays, p, hits, s) },
-            super::kernel::KernelChoice::Avx2 => return unsafe { self.closest_packet_avx2(rays, p, hits, s) },
+            super::kernel::KernelChoice::Avx512 => return unsafe { self.packet_avx512::<Q>(rays, p, out, s) },
+            super::kernel::KernelChoice::Avx2 => return unsafe { self.packet_avx2::<Q>(rays, p, out, s) },
             super::kernel::KernelChoice::Scalar => {}
         }
-        self.closest_packet_ordered::<Scalar, Scalar>(rays, p, hits, s)
+        self.packet_ordered::<Q, Scalar, Scalar>(rays, p, out, s)
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     #[allow(unsafe_code)]
-    unsafe fn closest_packet_avx2(&self, rays: &[Ray], p: &Packet, hits: &mut [Hit], s: &mut PacketScratch) {
+    unsafe fn packet_avx2<Q: PacketWalk>(&self, rays: &[Ray], p: &Packet, out: &mut [Q::Out], s: &mut PacketScratch) {
         use super::kernel_avx2::Avx2;
-        self.closest_packet_ordered::<Avx2, Avx2>(rays, p, hits, s)
+        self.packet_ordered::<Q, Avx2, Avx2>(rays, p, out, s)
     }
 
     /// The AVX2 packet tests with the AVX-512 single-ray kernel (leaf blocks in pairs, lanes
@@ -98,27 +156,27 @@ impl<N: WideNode> WideTree<N> {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,avx512f,avx512vl")]
     #[allow(unsafe_code)]
-    unsafe fn closest_packet_avx512(&self, rays: &[Ray], p: &Packet, hits: &mut [Hit], s: &mut PacketScratch) {
+    unsafe fn packet_avx512<Q: PacketWalk>(&self, rays: &[Ray], p: &Packet, out: &mut [Q::Out], s: &mut PacketScratch) {
         use super::kernel_avx2::Avx2;
         use super::kernel_avx512::Avx512;
-        self.closest_packet_ordered::<Avx512, Avx2>(rays, p, hits, s)
+        self.packet_ordered::<Q, Avx512, Avx2>(rays, p, out, s)
     }
 
-    /// The traversal for `p`, with the lane test of [`PacketKernel::lanes_ordered`] where
-    /// its frustum is bounded on every axis.
+    /// Walk `Q` from the root, with the lane test of [`PacketKernel::lanes_ordered`] where
+    /// the packet's frustum is bounded on every axis.
     #[inline(always)]
-    fn closest_packet_ordered<K: Kernel, P: PacketKernel>(
+    fn packet_ordered<Q: PacketWalk, K: Kernel, P: PacketKernel>(
         &self,
         rays: &[Ray],
         p: &Packet,
-        hits: &mut [Hit],
+        out: &mut [Q::Out],
         s: &mut PacketScratch,
     ) {
         let (limit, frustum) = start(p);
         if frustum.sign.iter().all(|&s| s != 0) {
-            self.closest_packet_in::<K, P, true>(rays, p, frustum, limit, hits, s)
+            Q::walk::<N, K, P, true>(self, rays, p, frustum, limit, out, s)
         } else {
-            self.closest_packet_in::<K, P, false>(rays, p, frustum, limit, hits, s)
+            Q::walk::<N, K, P, false>(self, rays, p, frustum, limit, out, s)
         }
     }
 
@@ -212,56 +270,6 @@ impl<N: WideNode> WideTree<N> {
         }
         for l in lanes(p.active) {
             hits[l] = best[l];
-        }
-    }
-
-    /// Any-hit answers of the active lanes of `p` (built from `rays`) into `out`, with the
-    /// kernel chosen at build time: `out[l]` is `any(rays[l])`. Lanes outside `p.active`
-    /// are left untouched.
-    #[allow(unsafe_code)]
-    pub(super) fn any_packet(&self, rays: &[Ray], p: &Packet, out: &mut [bool], s: &mut PacketScratch) {
-        assert!(s.any_stack.len() >= self.stack_need, "packet scratch made for another tree");
-        #[cfg(target_arch = "x86_64")]
-        match self.kernel {
-            // SAFETY: as in `closest_packet`.
-            super::kernel::KernelChoice::Avx512 => return unsafe { self.any_packet_avx512(rays, p, out, s) },
-            super::kernel::KernelChoice::Avx2 => return unsafe { self.any_packet_avx2(rays, p, out, s) },
-            super::kernel::KernelChoice::Scalar => {}
-        }
-        self.any_packet_ordered::<Scalar, Scalar>(rays, p, out, s)
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    #[allow(unsafe_code)]
-    unsafe fn any_packet_avx2(&self, rays: &[Ray], p: &Packet, out: &mut [bool], s: &mut PacketScratch) {
-        use super::kernel_avx2::Avx2;
-        self.any_packet_ordered::<Avx2, Avx2>(rays, p, out, s)
-    }
-
-    /// As `closest_packet_avx512`: the AVX2 packet tests, the AVX-512 leaves.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,avx512f,avx512vl")]
-    #[allow(unsafe_code)]
-    unsafe fn any_packet_avx512(&self, rays: &[Ray], p: &Packet, out: &mut [bool], s: &mut PacketScratch) {
-        use super::kernel_avx2::Avx2;
-        use super::kernel_avx512::Avx512;
-        self.any_packet_ordered::<Avx512, Avx2>(rays, p, out, s)
-    }
-
-    #[inline(always)]
-    fn any_packet_ordered<K: Kernel, P: PacketKernel>(
-        &self,
-        rays: &[Ray],
-        p: &Packet,
-        out: &mut [bool],
-        s: &mut PacketScratch,
-    ) {
-        let (limit, frustum) = start(p);
-        if frustum.sign.iter().all(|&s| s != 0) {
-            self.any_packet_in::<K, P, true>(rays, p, frustum, limit, out, s)
-        } else {
-            self.any_packet_in::<K, P, false>(rays, p, frustum, limit, out, s)
         }
     }
 
