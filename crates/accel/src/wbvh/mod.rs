@@ -155,7 +155,8 @@ impl Wbvh {
     /// NaN in it, a non-finite origin) is traced alone, and so is a packet of one.
     /// Panics unless `rays.len() == hits.len() <= PACKET`.
     pub fn intersect_packet(&self, rays: &[Ray], hits: &mut [Hit]) {
-        self.packet_in::<ClosestHits>(rays, hits, &mut self.packet_scratch(), |r| self.intersect(r));
+        assert!(rays.len() <= PACKET, "a packet holds at most {PACKET} rays, not {}", rays.len());
+        self.coherent_in::<ClosestHits>(rays, hits);
     }
 
     /// Any-hit answers of up to [`PACKET`] rays traced as one packet: `out[i]` is
@@ -163,43 +164,15 @@ impl Wbvh {
     /// first ray's origin travel together and any other ray is traced alone.
     /// Panics unless `rays.len() == out.len() <= PACKET`.
     pub fn occluded_packet(&self, rays: &[Ray], out: &mut [bool]) {
-        self.packet_in::<AnyHits>(rays, out, &mut self.packet_scratch(), |r| self.occluded(r));
+        assert!(rays.len() <= PACKET, "a packet holds at most {PACKET} rays, not {}", rays.len());
+        self.coherent_in::<AnyHits>(rays, out);
     }
 
-    /// Working memory for packets of this tree (`coherent_in` makes one per batch).
-    fn packet_scratch(&self) -> PacketScratch {
-        with_tree!(self, t => PacketScratch::new(t.stack_need))
-    }
-
-    /// Up to [`PACKET`] rays through walk `Q` as one packet (the lanes that can travel
-    /// together) and the others through `alone`, the single-ray query `Q` stands for.
-    fn packet_in<Q: PacketWalk>(
-        &self,
-        rays: &[Ray],
-        out: &mut [Q::Out],
-        scratch: &mut PacketScratch,
-        alone: impl Fn(&Ray) -> Q::Out,
-    ) {
+    /// A coherent batch through walk `Q` ([`WideTree::coherent`]): packets of [`PACKET`]
+    /// consecutive rays on one scratch, the rays that cannot travel together alone.
+    fn coherent_in<Q: PacketWalk>(&self, rays: &[Ray], out: &mut [Q::Out]) {
         crate::batch::check_batch_lengths(rays.len(), out.len());
-        let mut p = packet::Packet::new(rays);
-        if p.active.count_ones() >= 2 {
-            with_tree!(self, t => t.packet::<Q>(rays, &p, out, scratch));
-        } else {
-            p.active = 0;
-        }
-        for l in packet::lanes(!p.active & ((1u32 << rays.len()) - 1)) {
-            out[l] = alone(&rays[l]);
-        }
-    }
-
-    /// A coherent batch through walk `Q`: packets of [`PACKET`] consecutive rays on one
-    /// scratch, as [`Wbvh::packet_in`] traces each.
-    fn coherent_in<Q: PacketWalk>(&self, rays: &[Ray], out: &mut [Q::Out], alone: impl Fn(&Ray) -> Q::Out + Copy) {
-        crate::batch::check_batch_lengths(rays.len(), out.len());
-        let mut scratch = self.packet_scratch();
-        for (rs, os) in rays.chunks(PACKET).zip(out.chunks_mut(PACKET)) {
-            self.packet_in::<Q>(rs, os, &mut scratch, alone);
-        }
+        with_tree!(self, t => t.coherent::<Q>(rays, out, &mut PacketScratch::new(t.stack_need)))
     }
 
     /// Checks every invariant traversal relies on against `mesh` (see validate.rs).
@@ -224,13 +197,13 @@ impl Accel for Wbvh {
     /// Packets of [`PACKET`] consecutive rays ([`Wbvh::intersect_packet`]): a group whose
     /// rays share one origin travels together, other rays alone.
     fn intersect_coherent_into(&self, rays: &[Ray], hits: &mut [Hit]) {
-        self.coherent_in::<ClosestHits>(rays, hits, |r| self.intersect(r));
+        self.coherent_in::<ClosestHits>(rays, hits);
     }
 
     /// Packets of [`PACKET`] consecutive rays ([`Wbvh::occluded_packet`]), as
     /// `intersect_coherent_into`.
     fn occluded_coherent_into(&self, rays: &[Ray], out: &mut [bool]) {
-        self.coherent_in::<AnyHits>(rays, out, |r| self.occluded(r));
+        self.coherent_in::<AnyHits>(rays, out);
     }
 
     fn traces_packets(&self) -> bool {

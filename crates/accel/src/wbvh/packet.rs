@@ -134,9 +134,16 @@ pub struct Frustum {
 }
 
 impl Frustum {
-    /// The frustum of `p`'s active lanes with per-lane limits `limit`.
-    #[inline(always)]
+    /// The frustum of `p`'s active lanes with per-lane limits `limit` (the scalar
+    /// specification of [`Frustum::with`]).
+    #[cfg(test)]
     pub fn new(p: &Packet, limit: &Lanes) -> Self {
+        Self::with::<Scalar>(p, limit)
+    }
+
+    /// [`Frustum::new`] with kernel `P`'s per-axis range ([`PacketKernel::axis_range`]).
+    #[inline(always)]
+    pub fn with<P: PacketKernel>(p: &Packet, limit: &Lanes) -> Self {
         let mut f = Frustum {
             org: p.org,
             sign: [0; 3],
@@ -150,25 +157,32 @@ impl Frustum {
         }
         // Over all 8 lanes: those out of the packet repeat an active lane's `1/d`, and
         // hold `tmin = +∞` and `limit = −∞`, which change no minimum or maximum.
-        // Branch-free over the 8 lanes (pairwise halving), which LLVM turns into vector
-        // compares and min/max: the scalar loop was ~4 % of a packet on the BART kitchen.
-        // The order of the min/max does not matter where it is used: a bounded axis has
-        // no NaN and no zero.
         for a in 0..3 {
-            let v = &p.inv[a];
-            let pos = v.iter().fold(true, |all, &x| all & (x > 0.0) & (x < f32::INFINITY));
-            let neg = v.iter().fold(true, |all, &x| all & (x < 0.0) & (x > f32::NEG_INFINITY));
-            let (lo, hi) = min_max8(v);
-            if pos || neg {
-                f.sign[a] = if pos { 1 } else { -1 };
-                (f.inv_min[a], f.inv_max[a]) = (lo, hi);
-            }
+            (f.sign[a], f.inv_min[a], f.inv_max[a]) = P::axis_range(&p.inv[a]);
         }
         for &t in &p.tmin {
             f.tmin = if t < f.tmin { t } else { f.tmin };
         }
         f.limit = max_limit(limit, p.active);
         f
+    }
+}
+
+/// The frustum's bound on one axis from the lanes' `1/d` there (all 8 lanes): sign `1`
+/// when every lane's is finite and positive, `-1` when finite and negative, with their
+/// smallest and largest; `(0, 0, 0)` when the axis bounds nothing. With no NaN and no zero
+/// in a bounded axis, the order of the `min`/`max` does not matter.
+#[inline(always)]
+fn axis_range(v: &Lanes) -> (i32, f32, f32) {
+    // Branch-free (pairwise halving), which LLVM turns into vector compares and min/max:
+    // the scalar loop was ~4 % of a packet on the BART kitchen.
+    let pos = v.iter().fold(true, |all, &x| all & (x > 0.0) & (x < f32::INFINITY));
+    let neg = v.iter().fold(true, |all, &x| all & (x < 0.0) & (x > f32::NEG_INFINITY));
+    let (lo, hi) = min_max8(v);
+    match (pos, neg) {
+        (true, _) => (1, lo, hi),
+        (_, true) => (-1, lo, hi),
+        _ => (0, 0.0, 0.0),
     }
 }
 
@@ -262,6 +276,19 @@ pub trait PacketKernel {
         mask: u32,
         near: &mut Lanes,
     ) -> u32;
+
+    /// [`Packet::new`], as this kernel computes it.
+    #[inline(always)]
+    fn packet(rays: &[Ray]) -> Packet {
+        Packet::new(rays)
+    }
+
+    /// [`axis_range`] (the frustum's sign and `1/d` range on one axis), as this kernel
+    /// computes it.
+    #[inline(always)]
+    fn axis_range(v: &Lanes) -> (i32, f32, f32) {
+        axis_range(v)
+    }
 
     /// [`max_limit`], as this kernel computes it.
     #[inline(always)]

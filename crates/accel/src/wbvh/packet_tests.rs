@@ -160,6 +160,58 @@ fn avx2_packet_tests_are_the_single_ray_box_test_and_the_frustum_a_superset() {
     check::<Node8>(Avx2::lanes_checked, Avx2::lanes_ordered_checked, Avx2::frustum_checked);
 }
 
+/// The same packet, bit for bit (`inv`, intervals, origin; `active`, `nonneg`).
+#[cfg(target_arch = "x86_64")]
+fn same_packet(a: &Packet, b: &Packet) -> bool {
+    let bits = |l: &Lanes| l.map(f32::to_bits);
+    a.inv.map(|r| bits(&r)) == b.inv.map(|r| bits(&r))
+        && bits(&a.tmin) == bits(&b.tmin)
+        && bits(&a.tmax) == bits(&b.tmax)
+        && a.org.map(f32::to_bits) == b.org.map(f32::to_bits)
+        && (a.active, a.nonneg) == (b.active, b.nonneg)
+}
+
+/// The AVX2 packet set-up (an in-register transpose) is `Packet::new`'s, also on lanes
+/// that leave the packet (another origin, a NaN anywhere, a non-finite origin).
+#[cfg(target_arch = "x86_64")]
+#[test]
+fn avx2_packet_set_up_is_the_scalar_one() {
+    use super::kernel_avx2::Avx2;
+    if !std::arch::is_x86_feature_detected!("avx2") {
+        eprintln!("skipped: this CPU has no AVX2");
+        return;
+    }
+    let mut rng = SmallRng::seed_from_u64(13);
+    let mut partial = 0;
+    for i in 0..20_000 {
+        let mut rays = packet_rays(&mut rng, i);
+        for r in rays.iter_mut().skip(1) {
+            match rng.gen_range(0..40) {
+                0 => r.origin.y = f32::from_bits(r.origin.y.to_bits() ^ 1),
+                1 => r.dir.z = f32::NAN,
+                2 => r.tmin = f32::NAN,
+                3 => r.tmax = f32::NAN,
+                4 => r.origin.x = -r.origin.x,
+                5 => r.tmin = -1.0,
+                _ => {}
+            }
+        }
+        if i % 97 == 0 {
+            rays[0].origin.z = [f32::INFINITY, f32::NAN][i % 2];
+        }
+        if i % 89 == 0 {
+            rays[0].dir.x = f32::NAN;
+        }
+        let (want, got) = (Packet::new(&rays), Avx2::packet_checked(&rays));
+        partial += (want.active != (1 << rays.len()) - 1) as u32;
+        assert!(same_packet(&want, &got), "packet {i}: {want:?} against {got:?} for {rays:?}");
+        let limit = limits(&mut rng, &want);
+        let (f, g) = (Frustum::new(&want, &limit), Avx2::frustum_with_checked(&want, &limit));
+        assert_eq!(format!("{f:?}"), format!("{g:?}"), "frustum of packet {i}");
+    }
+    assert!(partial > 1000, "too few packets with lanes left out: {partial}");
+}
+
 /// The AVX2 frustum, `entered` and `max_limit` give the scalar answers.
 #[cfg(target_arch = "x86_64")]
 #[test]

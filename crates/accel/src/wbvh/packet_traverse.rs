@@ -57,7 +57,7 @@ impl PacketScratch {
 }
 
 /// What a packet walk answers per lane, so that one kernel dispatch and one frustum
-/// set-up ([`WideTree::packet`]) serve the closest-hit and the any-hit walk.
+/// set-up ([`WideTree::coherent`]) serve the closest-hit and the any-hit walk.
 pub(super) trait PacketWalk {
     /// A lane's answer.
     type Out;
@@ -72,6 +72,10 @@ pub(super) trait PacketWalk {
         out: &mut [Self::Out],
         s: &mut PacketScratch,
     );
+
+    /// The single-ray query this walk stands for, with kernel `K`: how a ray that cannot
+    /// travel in a packet is answered.
+    fn alone<N: WideNode, K: Kernel>(tree: &WideTree<N>, ray: &Ray) -> Self::Out;
 }
 
 /// Closest hits ([`WideTree::closest_packet_in`]): `out[l]` is `closest(rays[l])`.
@@ -94,6 +98,11 @@ impl PacketWalk for ClosestHits {
     ) {
         tree.closest_packet_in::<K, P, ORDERED>(rays, p, frustum, limit, out, s)
     }
+
+    #[inline(always)]
+    fn alone<N: WideNode, K: Kernel>(tree: &WideTree<N>, ray: &Ray) -> Hit {
+        tree.closest_sized::<K, NoCount>(ray, &mut NoCount)
+    }
 }
 
 impl PacketWalk for AnyHits {
@@ -110,44 +119,51 @@ impl PacketWalk for AnyHits {
     ) {
         tree.any_packet_in::<K, P, ORDERED>(rays, p, frustum, limit, out, s)
     }
+
+    #[inline(always)]
+    fn alone<N: WideNode, K: Kernel>(tree: &WideTree<N>, ray: &Ray) -> bool {
+        tree.any_sized::<K, NoCount>(ray, &mut NoCount)
+    }
 }
 
 /// Where both packet walks start: each lane's limit (its `tmax`; −∞ outside the packet,
 /// so those lanes enter nothing) and the packet's frustum.
 #[inline(always)]
-fn start(p: &Packet) -> (Lanes, Frustum) {
+fn start<P: PacketKernel>(p: &Packet) -> (Lanes, Frustum) {
     let mut limit: Lanes = [f32::NEG_INFINITY; PACKET];
     for l in lanes(p.active) {
         limit[l] = p.tmax[l];
     }
-    (limit, Frustum::new(p, &limit))
+    (limit, Frustum::with::<P>(p, &limit))
 }
 
 impl<N: WideNode> WideTree<N> {
-    /// The answers of walk `Q` (closest hits or any-hit flags) for the active lanes of `p`
-    /// (built from `rays`) into `out`, with the kernel chosen at build time. Lanes outside
-    /// `p.active` are left untouched.
+    /// The answers of walk `Q` (closest hits or any-hit flags) for `rays` into `out`, with
+    /// the kernel chosen at build time: packets of [`PACKET`] consecutive rays, each the
+    /// lanes that can travel together ([`Packet::new`]), the other rays alone. One kernel
+    /// dispatch per batch, so that setting up a packet compiles with the kernel's
+    /// instruction set too.
     #[allow(unsafe_code)]
-    pub(super) fn packet<Q: PacketWalk>(&self, rays: &[Ray], p: &Packet, out: &mut [Q::Out], s: &mut PacketScratch) {
+    pub(super) fn coherent<Q: PacketWalk>(&self, rays: &[Ray], out: &mut [Q::Out], s: &mut PacketScratch) {
         // Every stack of the scratch is made `stack_need` long together.
         assert!(s.stack.len() >= self.stack_need, "packet scratch made for another tree");
         #[cfg(target_arch = "x86_64")]
         match self.kernel {
             // SAFETY: `KernelChoice::Avx512` is only chosen when AVX2, AVX-512 F and VL
             // were detected, `Avx2` when AVX2 was.
-            super::kernel::KernelChoice::Avx512 => return unsafe { self.packet_avx512::<Q>(rays, p, out, s) },
-            super::kernel::KernelChoice::Avx2 => return unsafe { self.packet_avx2::<Q>(rays, p, out, s) },
+            super::kernel::KernelChoice::Avx512 => return unsafe { self.coherent_avx512::<Q>(rays, out, s) },
+            super::kernel::KernelChoice::Avx2 => return unsafe { self.coherent_avx2::<Q>(rays, out, s) },
             super::kernel::KernelChoice::Scalar => {}
         }
-        self.packet_ordered::<Q, Scalar, Scalar>(rays, p, out, s)
+        self.coherent_with::<Q, Scalar, Scalar>(rays, out, s)
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     #[allow(unsafe_code)]
-    unsafe fn packet_avx2<Q: PacketWalk>(&self, rays: &[Ray], p: &Packet, out: &mut [Q::Out], s: &mut PacketScratch) {
+    unsafe fn coherent_avx2<Q: PacketWalk>(&self, rays: &[Ray], out: &mut [Q::Out], s: &mut PacketScratch) {
         use super::kernel_avx2::Avx2;
-        self.packet_ordered::<Q, Avx2, Avx2>(rays, p, out, s)
+        self.coherent_with::<Q, Avx2, Avx2>(rays, out, s)
     }
 
     /// The AVX2 packet tests with the AVX-512 single-ray kernel (leaf blocks in pairs, lanes
@@ -156,10 +172,32 @@ impl<N: WideNode> WideTree<N> {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,avx512f,avx512vl")]
     #[allow(unsafe_code)]
-    unsafe fn packet_avx512<Q: PacketWalk>(&self, rays: &[Ray], p: &Packet, out: &mut [Q::Out], s: &mut PacketScratch) {
+    unsafe fn coherent_avx512<Q: PacketWalk>(&self, rays: &[Ray], out: &mut [Q::Out], s: &mut PacketScratch) {
         use super::kernel_avx2::Avx2;
         use super::kernel_avx512::Avx512;
-        self.packet_ordered::<Q, Avx512, Avx2>(rays, p, out, s)
+        self.coherent_with::<Q, Avx512, Avx2>(rays, out, s)
+    }
+
+    /// [`WideTree::coherent`] with kernels `K` (leaves, single rays) and `P` (packet box
+    /// tests).
+    #[inline(always)]
+    fn coherent_with<Q: PacketWalk, K: Kernel, P: PacketKernel>(
+        &self,
+        rays: &[Ray],
+        out: &mut [Q::Out],
+        s: &mut PacketScratch,
+    ) {
+        for (rs, os) in rays.chunks(PACKET).zip(out.chunks_mut(PACKET)) {
+            let mut p = P::packet(rs);
+            if p.active.count_ones() >= 2 {
+                self.packet_ordered::<Q, K, P>(rs, &p, os, s);
+            } else {
+                p.active = 0;
+            }
+            for l in lanes(!p.active & ((1u32 << rs.len()) - 1)) {
+                os[l] = Q::alone::<N, K>(self, &rs[l]);
+            }
+        }
     }
 
     /// Walk `Q` from the root, with the lane test of [`PacketKernel::lanes_ordered`] where
@@ -172,7 +210,7 @@ impl<N: WideNode> WideTree<N> {
         out: &mut [Q::Out],
         s: &mut PacketScratch,
     ) {
-        let (limit, frustum) = start(p);
+        let (limit, frustum) = start::<P>(p);
         if frustum.sign.iter().all(|&s| s != 0) {
             Q::walk::<N, K, P, true>(self, rays, p, frustum, limit, out, s)
         } else {

@@ -154,7 +154,7 @@ impl<N: WideNode> WideTree<N> {
     }
 
     #[inline(always)]
-    fn closest_sized<K: Kernel, C: Counter>(&self, ray: &Ray, c: &mut C) -> Hit {
+    pub(super) fn closest_sized<K: Kernel, C: Counter>(&self, ray: &Ray, c: &mut C) -> Hit {
         if self.stack_need <= SMALL_STACK {
             self.closest_with::<K, C, SMALL_STACK>(ray, c)
         } else {
@@ -163,7 +163,7 @@ impl<N: WideNode> WideTree<N> {
     }
 
     #[inline(always)]
-    fn any_sized<K: Kernel, C: Counter>(&self, ray: &Ray, c: &mut C) -> bool {
+    pub(super) fn any_sized<K: Kernel, C: Counter>(&self, ray: &Ray, c: &mut C) -> bool {
         if self.stack_need <= SMALL_STACK {
             self.any_with::<K, C, SMALL_STACK>(ray, c)
         } else {
