@@ -23,7 +23,7 @@
 
 use super::kernel::{Nears, Scalar};
 use super::node::WideNode;
-use dynray_geom::{Ray, SLAB_MARGIN};
+use dynray_geom::{Hit, Ray, SLAB_MARGIN};
 
 /// Rays per packet (the f32 lanes of one AVX2 register).
 pub const PACKET: usize = 8;
@@ -288,6 +288,15 @@ pub trait PacketKernel {
     #[inline(always)]
     fn axis_range(v: &Lanes) -> (i32, f32, f32) {
         axis_range(v)
+    }
+
+    /// Sets `limit[l] = min(best[l].t, tmax[l])` for the lanes of `mask` (after their leaf
+    /// tests), the others unchanged.
+    #[inline(always)]
+    fn update_limits(limit: &mut Lanes, best: &[Hit; PACKET], tmax: &Lanes, mask: u32) {
+        for l in lanes(mask) {
+            limit[l] = best[l].t.min(tmax[l]);
+        }
     }
 
     /// [`max_limit`], as this kernel computes it.

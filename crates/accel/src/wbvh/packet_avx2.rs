@@ -16,9 +16,9 @@
 use super::kernel::Nears;
 use super::kernel_avx2::Avx2;
 use super::node::WideNode;
-use super::packet::{Frustum, Lanes, Packet, PacketKernel};
+use super::packet::{Frustum, Lanes, Packet, PacketKernel, PACKET};
 use bytemuck::cast;
-use dynray_geom::{Ray, SLAB_MARGIN};
+use dynray_geom::{Hit, Ray, SLAB_MARGIN};
 use std::arch::x86_64::*;
 
 /// `x · (1 ∓ m)`: widened outwards by [`SLAB_MARGIN`] as `Aabb::clip` does (`near`:
@@ -292,6 +292,23 @@ impl PacketKernel for Avx2 {
         }
     }
 
+    /// The lanes' `t` gathered into a register and the limits written with one store:
+    /// the scalar loop's eight stores, read back at once by the next node's tests, could
+    /// not be forwarded to that load.
+    #[inline(always)]
+    fn update_limits(limit: &mut Lanes, best: &[Hit; PACKET], tmax: &Lanes, mask: u32) {
+        // SAFETY: see the file's header.
+        unsafe {
+            let t =
+                _mm256_setr_ps(best[0].t, best[1].t, best[2].t, best[3].t, best[4].t, best[5].t, best[6].t, best[7].t);
+            // `minps(t, tmax)` is `t < tmax ? t : tmax`; neither is NaN for a packet lane.
+            let new = _mm256_min_ps(t, cast::<Lanes, __m256>(*tmax));
+            let bits = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+            let on = _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(mask as i32), bits), bits);
+            *limit = cast(_mm256_blendv_ps(cast::<Lanes, __m256>(*limit), new, _mm256_castsi256_ps(on)));
+        }
+    }
+
     #[inline(always)]
     fn max_limit(limit: &Lanes, mask: u32) -> f32 {
         // SAFETY: see the file's header.
@@ -396,6 +413,16 @@ impl Avx2 {
         assert!(std::arch::is_x86_feature_detected!("avx2"));
         // SAFETY: AVX2 checked on the line above.
         unsafe { go(p, limit) }
+    }
+
+    pub(super) fn update_limits_checked(limit: &mut Lanes, best: &[Hit; PACKET], tmax: &Lanes, mask: u32) {
+        #[target_feature(enable = "avx2")]
+        fn go(limit: &mut Lanes, best: &[Hit; PACKET], tmax: &Lanes, mask: u32) {
+            <Avx2 as PacketKernel>::update_limits(limit, best, tmax, mask)
+        }
+        assert!(std::arch::is_x86_feature_detected!("avx2"));
+        // SAFETY: AVX2 checked on the line above.
+        unsafe { go(limit, best, tmax, mask) }
     }
 
     pub(super) fn max_limit_checked(limit: &Lanes, mask: u32) -> f32 {

@@ -248,14 +248,12 @@ impl<N: WideNode> WideTree<N> {
                     traverse::prepared(&mut pr[l], &rays[l]);
                 }
                 K::closest_leaf_lanes(blocks, mask, pr, &mut best);
-                for l in lanes(mask) {
-                    limit[l] = best[l].t.min(p.tmax[l]);
-                }
+                P::update_limits(&mut limit, &best, &p.tmax, mask);
             } else if mask.count_ones() <= ALONE {
                 for l in lanes(mask) {
                     self.closest_lane::<K>(cur, l, &rays[l], p, &mut pr[l], &mut best[l], lane_stack);
-                    limit[l] = best[l].t.min(p.tmax[l]);
                 }
+                P::update_limits(&mut limit, &best, &p.tmax, mask);
             } else {
                 let node = &self.nodes[cur as usize];
                 // The frustum of the lanes entering this node only (their limits).
