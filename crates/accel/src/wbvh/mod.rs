@@ -52,6 +52,8 @@ use packet_traverse::{AnyHits, ClosestHits, PacketScratch, PacketWalk};
 pub struct Wbvh {
     tree: Tree,
     params: WbvhParams,
+    /// The `K_I` the tree was built with (`params`, or picked by the mesh's size).
+    intersection_cost: f32,
 }
 
 /// The tree at its width: one match per query picks the monomorphised traversal.
@@ -113,7 +115,8 @@ impl Wbvh {
         use crate::StructureParams;
         params.validate()?;
         let shift = if params.block_cost { 2 } else { 0 };
-        let (bin, ids) = Bvh::build_block_cost_nodes(mesh, &params.bvh, shift)?;
+        let bvh = params.bvh_for(mesh.triangle_count());
+        let (bin, ids) = Bvh::build_block_cost_nodes(mesh, &bvh, shift)?;
         let kernel = KernelChoice::resolve(params.kernel).map_err(|message| BuildError::Param {
             structure: "bvh",
             name: "kernel",
@@ -123,7 +126,7 @@ impl Wbvh {
             4 => Tree::W4(WideTree::collapse(&bin, &ids, mesh, kernel)?),
             _ => Tree::W8(WideTree::collapse(&bin, &ids, mesh, kernel)?),
         };
-        let w = Self { tree, params: *params };
+        let w = Self { tree, params: *params, intersection_cost: bvh.intersection_cost };
         #[cfg(debug_assertions)]
         if let Err(e) = w.check_invariants(mesh) {
             panic!("the builder produced an invalid wide BVH: {e}");
@@ -245,6 +248,7 @@ impl Accel for Wbvh {
         extra.push(("blocks".into(), shape.blocks.to_string()));
         extra.push(("filled_lanes".into(), format!("{:.1} %", 100.0 * shape.fill())));
         extra.push(("block_cost".into(), if self.params.block_cost { "on" } else { "off" }.into()));
+        extra.push(("intersection_cost".into(), self.intersection_cost.to_string()));
         AccelStats {
             nodes: shape.interior + shape.leaves,
             leaves: shape.leaves,

@@ -21,13 +21,44 @@ pub struct WbvhParams {
     /// The kernel: `Auto` (the fastest the CPU runs) or one named (the tests of each; a
     /// build fails where the CPU lacks it). `DYNRAY_FORCE_SCALAR=1` sends `Auto` to scalar.
     pub kernel: KernelRequest,
+    /// Pick `K_I` by the mesh's size instead of `bvh.intersection_cost`:
+    /// [`SMALL_TREE_INTERSECTION_COST`] for meshes under [`SMALL_TREE_TRIANGLES`], 1
+    /// above. Setting the `intersection_cost` key turns it off, `intersection_cost=auto`
+    /// on.
+    ///
+    /// Why: our f64 block test costs more against a box test than Embree's f32 one, so on
+    /// trees that stay in the caches more, smaller leaves pay (single-block leaves: two
+    /// bench runs, 2 threads, bunny +6–9 %, BART kitchen +8–19 % and robots +20–25 % on
+    /// primary and shadow rays); on the 47 MiB dragon the extra nodes are memory traffic
+    /// and the gains turn into losses (docs/structures.md, "The leaf cost by tree size").
+    pub auto_intersection_cost: bool,
     /// When batches of independent rays keep several in flight per thread (stream.rs):
     /// `Auto` for batches that do not look coherent on trees of 16 MiB or more. Same
     /// answers either way.
     pub interleave: Interleave,
 }
 
+/// Meshes under this many triangles count as small for [`WbvhParams::auto_intersection_cost`]:
+/// their trees (~56 bytes per triangle) stay under the 16 MiB from which the walks wait on
+/// memory ([`super::INTERLEAVE_MIN_BYTES`]).
+pub const SMALL_TREE_TRIANGLES: usize = 300_000;
+
+/// `K_I` of small meshes under [`WbvhParams::auto_intersection_cost`]. 1.5 and 2 measured
+/// the same as 1.25 on the bunny and BART's kitchen and robots (leaves split into single
+/// blocks either way); 1.25 builds fastest.
+pub const SMALL_TREE_INTERSECTION_COST: f32 = 1.25;
+
 impl WbvhParams {
+    /// The binary builder's parameters for a mesh of `triangles` triangles: `bvh`, with
+    /// `K_I` picked by size where [`WbvhParams::auto_intersection_cost`] is on.
+    pub fn bvh_for(&self, triangles: usize) -> BvhParams {
+        let mut b = self.bvh;
+        if self.auto_intersection_cost {
+            b.intersection_cost = if triangles < SMALL_TREE_TRIANGLES { SMALL_TREE_INTERSECTION_COST } else { 1.0 };
+        }
+        b
+    }
+
     /// Quicker builds: 8 bins (as [`BvhParams::fast`]).
     pub fn fast() -> Self {
         Self { bvh: BvhParams { bins: 8, ..Self::default().bvh }, ..Self::default() }
@@ -42,8 +73,9 @@ impl WbvhParams {
 
 impl Default for WbvhParams {
     /// Width 8, 16 bins, block cost, nodes of up to 4 triangles become leaves (Embree's
-    /// minimum leaf for 4-triangle blocks), leaves up to 16 triangles (4 blocks). The
-    /// width and leaf sizes were measured: see docs/structures.md, "The wide BVH".
+    /// minimum leaf for 4-triangle blocks), leaves up to 16 triangles (4 blocks), `K_I` by
+    /// the mesh's size. The width and leaf sizes were measured: see docs/structures.md,
+    /// "The wide BVH".
     fn default() -> Self {
         Self {
             width: 8,
@@ -56,6 +88,7 @@ impl Default for WbvhParams {
                 reinsert: false,
             },
             block_cost: true,
+            auto_intersection_cost: true,
             kernel: KernelRequest::Auto,
             interleave: Interleave::Auto,
         }
@@ -71,7 +104,10 @@ impl StructureParams for WbvhParams {
         ParamKey { name: "max_leaf_size", doc: "hard cap on a leaf, leaf_size − 1 to 32 (default 16)" },
         ParamKey { name: "block_cost", doc: "SAH leaf cost in 4-triangle blocks, on/off (default on)" },
         ParamKey { name: "traversal_cost", doc: "SAH K_T, (0, 1000] (default 1)" },
-        ParamKey { name: "intersection_cost", doc: "SAH K_I, (0, 1000] (default 1)" },
+        ParamKey {
+            name: "intersection_cost",
+            doc: "SAH K_I, (0, 1000], or auto (default auto: 1.25 under 300,000 triangles, 1 above)",
+        },
         ParamKey {
             name: "interleave",
             doc: "batches of rays keep several in flight per thread: auto (incoherent batches on trees of 16 MiB or more), on, off (default auto)",
@@ -96,7 +132,11 @@ impl StructureParams for WbvhParams {
             "max_leaf_size" => self.bvh.max_leaf_size = value::u32(s, key, v)?,
             "block_cost" => self.block_cost = value::bool(s, key, v)?,
             "traversal_cost" => self.bvh.traversal_cost = value::f32(s, key, v)?,
-            "intersection_cost" => self.bvh.intersection_cost = value::f32(s, key, v)?,
+            "intersection_cost" if v == "auto" => self.auto_intersection_cost = true,
+            "intersection_cost" => {
+                self.bvh.intersection_cost = value::f32(s, key, v)?;
+                self.auto_intersection_cost = false;
+            }
             "reinsert" => self.bvh.reinsert = value::bool(s, key, v)?,
             "interleave" => {
                 let i = value::choice(s, key, v, &Interleave::NAMES, "auto, on or off")?;
@@ -171,5 +211,19 @@ mod tests {
             assert_eq!(k.name(), name);
         }
         assert!(WbvhParams::from_pairs(&pairs(&[("kernel", "sse")])).is_err());
+    }
+
+    #[test]
+    fn intersection_cost_is_picked_by_size_unless_set() {
+        let pairs = |s: &[(&str, &str)]| s.iter().map(|(k, v)| (k.to_string(), v.to_string())).collect::<Vec<_>>();
+        let d = WbvhParams::default();
+        assert_eq!(d.bvh_for(SMALL_TREE_TRIANGLES - 1).intersection_cost, SMALL_TREE_INTERSECTION_COST);
+        assert_eq!(d.bvh_for(SMALL_TREE_TRIANGLES).intersection_cost, 1.0);
+        let set = WbvhParams::from_pairs(&pairs(&[("intersection_cost", "2")])).unwrap();
+        assert!(!set.auto_intersection_cost);
+        assert_eq!((set.bvh_for(10).intersection_cost, set.bvh_for(1 << 20).intersection_cost), (2.0, 2.0));
+        let auto = WbvhParams::from_pairs(&pairs(&[("intersection_cost", "2"), ("intersection_cost", "auto")]));
+        assert_eq!(auto.unwrap().bvh_for(10).intersection_cost, SMALL_TREE_INTERSECTION_COST);
+        assert!(WbvhParams::from_pairs(&pairs(&[("intersection_cost", "cheap")])).is_err());
     }
 }
