@@ -15,6 +15,12 @@
 //! of those lie wholly outside the interval, so the extra compares cost shadow and diffuse
 //! rays 3–4 % on the BART kitchen (docs/structures.md, "Where it stands").
 //!
+//! Also dropped (round 6, docs/structures.md "Packets"): a scalar divide for a pair's one
+//! lane left after the edge tests (the usual case; `vdivpd zmm` issues once per 16
+//! cycles): −2 % on kitchen packets, shadow and diffuse rays, so the divide is not the
+//! bound; and a packet leaf's odd block tested one triangle at a time across 8 lanes
+//! instead of a block test per lane: kitchen packets −2 %, bunny −9 %.
+//!
 //! Bit-identical to [`super::kernel::Scalar`] for the reasons kernel_avx2.rs gives: every
 //! lane performs the scalar test's IEEE operations in its order (no FMA intrinsic; Rust
 //! never contracts), conversions round to nearest, compares are ordered (`_OQ`). The tests

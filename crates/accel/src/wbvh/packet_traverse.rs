@@ -233,6 +233,8 @@ impl<N: WideNode> WideTree<N> {
         s: &mut PacketScratch,
     ) {
         let PacketScratch { stack, lane_stack, pr, .. } = s;
+        // Each lane's triangle-test constants at its first leaf: made for every lane here
+        // instead, bunny packets were 9 % slower (lanes that reach no leaf never pay).
         for l in lanes(p.active) {
             pr[l] = None;
         }

@@ -16,7 +16,9 @@ pub struct WbvhParams {
     /// `max_leaf_size` is limited to 32 here (a leaf reference holds 8 blocks of 4).
     pub bvh: BvhParams,
     /// Cost leaves in blocks of 4 triangles (`⌈n/4⌉` tests, as the leaves are tested),
-    /// Embree's block SAH; off costs `n`, as the binary BVH does.
+    /// Embree's block SAH; off costs `n`, as the binary BVH does. Blocks of 8 (`⌈n/8⌉`,
+    /// the AVX-512 kernel's block pair; nodes under 9 triangles made leaves) lost 3–11 %
+    /// on every ray kind on the bunny and the BART kitchen (round 6).
     pub block_cost: bool,
     /// The kernel: `Auto` (the fastest the CPU runs) or one named (the tests of each; a
     /// build fails where the CPU lacks it). `DYNRAY_FORCE_SCALAR=1` sends `Auto` to scalar.

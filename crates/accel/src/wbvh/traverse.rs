@@ -273,7 +273,9 @@ impl<N: WideNode> WideTree<N> {
     }
 
     /// Any hit with an `S`-entry stack: returns at the first triangle accepted. Children
-    /// are not sorted: any hit ends the walk, so order buys little.
+    /// are not sorted: any hit ends the walk, so order buys little. Measured (round 6, one
+    /// thread, shadow rays): the nearest hit child first instead of the lowest lane, bunny
+    /// −1 %, BART kitchen −5 %; the farthest first, bunny +2 %, kitchen −6 %.
     #[inline(always)]
     fn any_with<K: Kernel, C: Counter, const S: usize>(&self, ray: &Ray, c: &mut C) -> bool {
         self.any_on::<K, C>(ray, &mut [0 as ChildRef; S], c)
