@@ -88,6 +88,16 @@ fn widen_lanes(p: &Packet, n: __m256, x: __m256) -> (__m256, __m256) {
     }
 }
 
+/// The lanes of `mask` as a blend mask: all ones in lane `l` when bit `l` is set.
+#[inline(always)]
+fn lane_mask(mask: u32) -> __m256 {
+    // SAFETY: see the file's header.
+    unsafe {
+        let bits = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+        _mm256_castsi256_ps(_mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(mask as i32), bits), bits))
+    }
+}
+
 impl PacketKernel for Avx2 {
     #[inline(always)]
     fn frustum<N: WideNode>(node: &N, f: &Frustum, near: &mut Nears) -> u32 {
@@ -303,9 +313,7 @@ impl PacketKernel for Avx2 {
                 _mm256_setr_ps(best[0].t, best[1].t, best[2].t, best[3].t, best[4].t, best[5].t, best[6].t, best[7].t);
             // `minps(t, tmax)` is `t < tmax ? t : tmax`; neither is NaN for a packet lane.
             let new = _mm256_min_ps(t, cast::<Lanes, __m256>(*tmax));
-            let bits = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
-            let on = _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(mask as i32), bits), bits);
-            *limit = cast(_mm256_blendv_ps(cast::<Lanes, __m256>(*limit), new, _mm256_castsi256_ps(on)));
+            *limit = cast(_mm256_blendv_ps(cast::<Lanes, __m256>(*limit), new, lane_mask(mask)));
         }
     }
 
@@ -313,13 +321,7 @@ impl PacketKernel for Avx2 {
     fn max_limit(limit: &Lanes, mask: u32) -> f32 {
         // SAFETY: see the file's header.
         unsafe {
-            let bits = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
-            let on = _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(mask as i32), bits), bits);
-            let v = _mm256_blendv_ps(
-                _mm256_set1_ps(f32::NEG_INFINITY),
-                cast::<Lanes, __m256>(*limit),
-                _mm256_castsi256_ps(on),
-            );
+            let v = _mm256_blendv_ps(_mm256_set1_ps(f32::NEG_INFINITY), cast::<Lanes, __m256>(*limit), lane_mask(mask));
             // Limits are never NaN, so the order of the `max`es does not matter.
             let h = _mm_max_ps(_mm256_castps256_ps128(v), _mm256_extractf128_ps::<1>(v));
             let h = _mm_max_ps(h, _mm_movehl_ps(h, h));
