@@ -15,7 +15,7 @@ use super::{BvhNode, BvhParams};
 use crate::BuildError;
 use crate::StructureParams;
 use dynray_geom::{Triangle, TriangleMesh};
-use glam::{UVec4, Vec3A};
+use glam::{BVec3A, UVec4, Vec3A};
 use rayon::prelude::*;
 
 /// Nodes with at least this many triangles build their two subtrees with `rayon::join`.
@@ -356,7 +356,10 @@ impl Builder<'_> {
             let b = (c + round) >> self.block_shift;
             Vec3A::new(b.x as f32, b.y as f32, b.z as f32)
         };
-        let (mut best_cost, mut best_bin, mut found) = (Vec3A::INFINITY, [0usize; 3], [false; 3]);
+        // Per axis (lane) the cheapest plane so far, kept with selects rather than a branch
+        // per lane: the first plane an axis may use is taken whatever its cost, a later
+        // one only when strictly cheaper, so ties go to the first plane.
+        let (mut best_cost, mut best_bin, mut found) = (Vec3A::INFINITY, Vec3A::ZERO, BVec3A::FALSE);
         let (mut acc, mut cnt) = ([Box3::EMPTY; 3], UVec4::ZERO);
         for i in 1..k {
             acc = [acc[0].union(&boxes[i - 1][0]), acc[1].union(&boxes[i - 1][1]), acc[2].union(&boxes[i - 1][2])];
@@ -364,23 +367,16 @@ impl Builder<'_> {
             let (lt, rt) = (tri_cost(cnt), tri_cost(right_count[i]));
             let cost = areas3(&acc) * lt + right_area[i] * rt;
             let ok = axis_ok & lt.cmpgt(Vec3A::ZERO) & rt.cmpgt(Vec3A::ZERO);
-            // Strict `<`: the first plane wins ties, so builds are reproducible.
-            let okm = ok.bitmask();
-            if okm != 0 {
-                let better = cost.cmplt(best_cost).bitmask();
-                for a in 0..3 {
-                    if okm & (1 << a) != 0 && (!found[a] || better & (1 << a) != 0) {
-                        found[a] = true;
-                        best_cost[a] = cost[a];
-                        best_bin[a] = i;
-                    }
-                }
-            }
+            let take = ok & (cost.cmplt(best_cost) | !found);
+            best_cost = Vec3A::select(take, cost, best_cost);
+            // Bin indices are below 257: exact as floats.
+            best_bin = Vec3A::select(take, Vec3A::splat(i as f32), best_bin);
+            found |= ok;
         }
         let mut best: Option<(f32, usize, usize)> = None;
         for a in 0..3 {
-            if found[a] && best.is_none_or(|(c, _, _)| best_cost[a] < c) {
-                best = Some((best_cost[a], a, best_bin[a]));
+            if found.test(a) && best.is_none_or(|(c, _, _)| best_cost[a] < c) {
+                best = Some((best_cost[a], a, best_bin[a] as usize));
             }
         }
         let Some((cost, axis, bin)) = best else {
