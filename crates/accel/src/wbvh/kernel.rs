@@ -121,6 +121,13 @@ pub trait Kernel {
     fn prefetch<T>(x: &T) {
         let _ = x;
     }
+
+    /// Starts loading the cache lines holding these addresses (a hint: they need not be
+    /// valid, nothing is read through them).
+    #[inline(always)]
+    fn prefetch_lines(at: [usize; 4]) {
+        let _ = at;
+    }
 }
 
 /// The test constants of packet lane `l`, which the caller has set.

@@ -331,6 +331,14 @@ impl Kernel for Avx2 {
     }
 
     #[inline(always)]
+    fn prefetch_lines(at: [usize; 4]) {
+        for a in at {
+            // SAFETY: a prefetch never faults, whatever the address.
+            unsafe { _mm_prefetch::<_MM_HINT_T0>(a as *const i8) }
+        }
+    }
+
+    #[inline(always)]
     fn prefetch<T>(x: &T) {
         let p = x as *const T as *const i8;
         for line in (0..std::mem::size_of::<T>()).step_by(64) {

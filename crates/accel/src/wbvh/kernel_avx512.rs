@@ -317,6 +317,11 @@ impl Kernel for Avx512 {
     fn prefetch<T>(x: &T) {
         Avx2::prefetch(x)
     }
+
+    #[inline(always)]
+    fn prefetch_lines(at: [usize; 4]) {
+        Avx2::prefetch_lines(at)
+    }
 }
 
 /// Entry points for the tests, compiled with AVX-512 so the kernels inline as they do in

@@ -305,15 +305,15 @@ impl<N: WideNode> WideTree<N> {
             if mask != 0 {
                 if mask & (mask - 1) == 0 {
                     w.cur = node.child(mask.trailing_zeros() as usize);
-                    self.prefetch_child::<K>(w.cur);
+                    self.prefetch_child_branch_free::<K>(w.cur);
                     return true;
                 }
                 let start = w.sp;
                 w.cur = push_hits(node, mask, &near, &mut w.stack, &mut w.sp);
                 for e in &w.stack[start..w.sp] {
-                    self.prefetch_child::<K>(e.node);
+                    self.prefetch_child_branch_free::<K>(e.node);
                 }
-                self.prefetch_child::<K>(w.cur);
+                self.prefetch_child_branch_free::<K>(w.cur);
                 return true;
             }
         }
