@@ -37,14 +37,17 @@ pub(super) struct Entry {
 }
 
 /// Pushes the children in `mask` (two or more) but the nearest onto `stack` above `sp`,
-/// farthest deepest, and returns the nearest, which the walk visits next: an insertion
-/// sort of at most 8 entries, usually 2 or 3; ties go to the higher lane. Shared by the
-/// single-ray walk and the interleaved one (stream.rs).
+/// farthest deepest, and returns the nearest, which the walk visits next: two children
+/// by one compare into conditional moves, more by an insertion sort (usually 3); ties go
+/// to the higher lane. Shared by the single-ray walk and the interleaved one (stream.rs).
 ///
-/// Tried and dropped: a 19-comparator sorting network over all 8 lanes (slower on
-/// primary rays, see kernel_avx512.rs), and ordering two children by one compare into
-/// conditional moves instead of the loop (the loop's exits mispredict on incoherent rays):
-/// 0.99–1.03× the loop in two alternated pairs of bench runs, within noise.
+/// The two-child case (round 7) spares incoherent rays the loop's data-dependent exits:
+/// one thread, best of 3 alternated rounds, diffuse +1–4 %, random +1–3 %, primary
+/// within ±1 % (bunny, dragon, kitchen, duck); in round 4's two-thread bench runs the same
+/// change had looked like noise (0.99–1.03×). Three children by a 3-comparator network as
+/// well: −1 to +2 %, dropped. Also dropped: a 19-comparator sorting network over all 8
+/// lanes (slower on primary rays, see kernel_avx512.rs), and pushing in a per-octant
+/// order precomputed in the node (docs/structures.md, "Where it stands").
 #[inline(always)]
 pub(super) fn push_hits<N: WideNode>(
     node: &N,
@@ -54,6 +57,16 @@ pub(super) fn push_hits<N: WideNode>(
     sp: &mut usize,
 ) -> ChildRef {
     debug_assert!(mask.count_ones() >= 2);
+    if mask.count_ones() == 2 {
+        // The common case without the loop's data-dependent branches: one compare picks
+        // the nearer child (conditional moves), the other is pushed.
+        let (i, j) = (mask.trailing_zeros() as usize, 31 - mask.leading_zeros() as usize);
+        let (low, high) = (Entry { node: node.child(i), t: near[i] }, Entry { node: node.child(j), t: near[j] });
+        let (far, nearer) = if low.t < high.t { (high, low) } else { (low, high) };
+        stack[*sp] = far;
+        *sp += 1;
+        return nearer.node;
+    }
     let start = *sp;
     let mut m = mask;
     while m != 0 {
