@@ -16,7 +16,7 @@
 use super::kernel::KernelChoice;
 use super::kernel::{BoxRay, Kernel, Nears, Scalar};
 use super::node::{is_leaf, leaf_blocks, ChildRef, WideNode};
-use super::traverse::{prepared, push_hits, Below, Entry, SMALL_STACK, STACK_CAPACITY};
+use super::traverse::{next_of_one_or_two, prepared, push_hits, Below, Entry, SMALL_STACK, STACK_CAPACITY};
 use super::WideTree;
 use crate::NoCount;
 use dynray_geom::{Hit, PreparedRay, Ray};
@@ -303,9 +303,11 @@ impl<N: WideNode> WideTree<N> {
             let mut near: Nears = [0.0; 8];
             let mask = K::boxes(node, &w.br, ray.tmin, w.best.t.min(ray.tmax), &mut near);
             if mask != 0 {
-                if mask & (mask - 1) == 0 {
-                    w.cur = node.child(mask.trailing_zeros() as usize);
-                    self.prefetch_child_branch_free::<K>(w.cur);
+                if mask.count_ones() <= 2 {
+                    let (next, deferred) = next_of_one_or_two(node, mask, &near, cur, &mut w.stack, &mut w.sp);
+                    self.prefetch_child_branch_free::<K>(deferred);
+                    self.prefetch_child_branch_free::<K>(next);
+                    w.cur = next;
                     return true;
                 }
                 let start = w.sp;
