@@ -62,9 +62,7 @@ pub(super) fn push_hits<N: WideNode>(
     if mask.count_ones() == 2 {
         // The common case without the loop's data-dependent branches: one compare picks
         // the nearer child (conditional moves), the other is pushed.
-        let (i, j) = (mask.trailing_zeros() as usize, 31 - mask.leading_zeros() as usize);
-        let (low, high) = (Entry { node: node.child(i), t: near[i] }, Entry { node: node.child(j), t: near[j] });
-        let (far, nearer) = if low.t < high.t { (high, low) } else { (low, high) };
+        let (far, nearer) = far_and_near(node, mask, near);
         stack[*sp] = far;
         *sp += 1;
         return nearer.node;
@@ -87,6 +85,20 @@ pub(super) fn push_hits<N: WideNode>(
     stack[*sp].node
 }
 
+/// The farther and the nearer of the lowest and the highest lane of `mask` as entries
+/// (one compare into conditional moves; on a tie the higher lane is the nearer, visited
+/// first, as in [`push_hits`]'s sort). With one lane in `mask` both are that lane.
+#[inline(always)]
+fn far_and_near<N: WideNode>(node: &N, mask: u32, near: &Nears) -> (Entry, Entry) {
+    let (i, j) = (mask.trailing_zeros() as usize, 31 - mask.leading_zeros() as usize);
+    let (low, high) = (Entry { node: node.child(i), t: near[i] }, Entry { node: node.child(j), t: near[j] });
+    if low.t < high.t {
+        (high, low)
+    } else {
+        (low, high)
+    }
+}
+
 /// For a node `at` with one or two hit children (`mask`), the child to visit next (the
 /// nearer; ties to the higher lane, as [`push_hits`]) and the child to prefetch: with two,
 /// the farther one, which is pushed; with one, the node `at` itself, which is in cache.
@@ -106,10 +118,8 @@ pub(super) fn next_of_one_or_two<N: WideNode>(
     sp: &mut usize,
 ) -> (ChildRef, ChildRef) {
     debug_assert!((1..=2).contains(&mask.count_ones()));
-    let (i, j) = (mask.trailing_zeros() as usize, 31 - mask.leading_zeros() as usize);
-    let (low, high) = (Entry { node: node.child(i), t: near[i] }, Entry { node: node.child(j), t: near[j] });
-    let (far, nearer) = if low.t < high.t { (high, low) } else { (low, high) };
-    let two = i != j;
+    let (far, nearer) = far_and_near(node, mask, near);
+    let two = mask & (mask - 1) != 0;
     stack[*sp] = far;
     *sp += two as usize;
     (nearer.node, if two { far.node } else { at })
