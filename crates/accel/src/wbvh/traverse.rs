@@ -345,7 +345,7 @@ impl<N: WideNode> WideTree<N> {
         // A block is 160 bytes from a line start or 32 bytes in: 3 lines from `at` hold it.
         // The fourth prefetch is a node's last line, or the block's third again.
         let last = (192 & !leaf) | (128 & leaf);
-        K::prefetch_lines([at, at + 64, at + 128, at + last]);
+        K::prefetch_lines([at, at.wrapping_add(64), at.wrapping_add(128), at.wrapping_add(last)]);
     }
 
     /// Any hit with an `S`-entry stack: returns at the first triangle accepted. Children
