@@ -80,6 +80,66 @@ fn interleaved_and_one_at_a_time_batches_match_brute() {
     }
 }
 
+/// Shadow rays of a camera's pixels in order, towards a light above and to the side of
+/// the bunny (its ears and back shade its body): a coherent any-hit batch, as the
+/// last-occluder cache (`occluder_cache`, stream.rs) expects, with runs of occluded rays
+/// and the lit rays that follow them.
+fn bunny_shadow_rays(mesh: &TriangleMesh, camera_hits: &dyn Accel) -> Vec<Ray> {
+    let b = mesh.bounds();
+    let (c, d) = (b.center(), (b.max - b.min).length());
+    let eye = c + Vec3::new(0.2, 0.1, 1.0) * d;
+    let light = c + Vec3::new(-0.6, 1.0, 0.3) * d;
+    let (fwd, n) = ((c - eye).normalize(), 96);
+    let right = fwd.cross(Vec3::Y).normalize();
+    let up = right.cross(fwd);
+    let mut rays = Vec::new();
+    for y in 0..n {
+        for x in 0..n {
+            let (sx, sy) = ((x as f32 + 0.5) / n as f32 - 0.5, 0.5 - (y as f32 + 0.5) / n as f32);
+            let primary = Ray::new(eye, fwd + (right * sx + up * sy) * 0.6);
+            let h = camera_hits.intersect(&primary);
+            if h.is_hit() {
+                let p = primary.at(h.t) - primary.dir.normalize() * (d * 1e-4);
+                let to = light - p;
+                rays.push(Ray::with_interval(p, to, 0.0, 0.9999));
+            }
+        }
+    }
+    rays
+}
+
+/// The last-occluder cache changes only the work: every kernel, cache on and off, gives
+/// brute force's answers on a coherent shadow batch in which occluded rays are followed
+/// by lit ones (a cache that answered without its leaf test would fail there).
+#[test]
+fn occluder_cache_answers_as_brute_force() {
+    let mesh = bunny();
+    let rays = bunny_shadow_rays(&mesh, build("bvh", &mesh).as_ref());
+    assert!(dynray_accel::wbvh::looks_coherent(&rays), "the batch must take the cached path");
+    let want: Vec<bool> = brute_hits(&mesh, &rays).iter().map(|h| h.is_hit()).collect();
+    let lit_after_shadow = want.windows(2).filter(|w| w[0] && !w[1]).count();
+    let shadowed = want.iter().filter(|o| **o).count();
+    assert!(
+        shadowed > 200 && lit_after_shadow > 20,
+        "{} rays, {shadowed} occluded, {lit_after_shadow} lit after occluded",
+        rays.len()
+    );
+    for k in KernelRequest::runnable() {
+        for cache in ["on", "off"] {
+            let v = format!("bvh:kernel={},occluder_cache={cache},interleave=off", k.name());
+            let got = build(&v, &mesh).occluded_batch(&rays);
+            let bad: Vec<usize> = (0..rays.len()).filter(|&i| got[i] != want[i]).collect();
+            assert!(
+                bad.is_empty(),
+                "{v}: {} of {} rays differ from brute force, first {:?}",
+                bad.len(),
+                rays.len(),
+                &bad[..bad.len().min(5)]
+            );
+        }
+    }
+}
+
 #[test]
 fn each_kernel_is_what_kernel_asks_for() {
     let mesh = bunny();

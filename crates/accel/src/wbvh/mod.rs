@@ -46,6 +46,7 @@ use crate::{Accel, AccelStats, BuildError, Bvh, BvhNode, InvalidStructure, NoCou
 use dynray_geom::{Hit, Ray, TriangleMesh};
 pub(crate) use kernel::KernelChoice;
 use packet_traverse::{AnyHits, ClosestHits, PacketScratch, PacketWalk};
+use stream::AnyBatch;
 
 /// A wide BVH over one mesh, 4 or 8 children per node ([`WbvhParams::width`]).
 #[derive(Clone, Debug)]
@@ -222,9 +223,18 @@ impl Accel for Wbvh {
         with_tree!(self, t => t.closest_stream(rays, hits, interleaved))
     }
 
+    /// As `intersect_stream_into`; batches that look coherent and are walked one ray
+    /// after the other test the last occluder's leaf first where `occluder_cache=on`
+    /// (the default).
     fn occluded_stream_into(&self, rays: &[Ray], out: &mut [bool]) {
-        let interleaved = self.params.interleave.applies(rays, self.memory_bytes());
-        with_tree!(self, t => t.any_stream(rays, out, interleaved))
+        let how = if self.params.interleave.applies(rays, self.memory_bytes()) {
+            AnyBatch::Interleaved
+        } else if self.params.occluder_cache && looks_coherent(rays) {
+            AnyBatch::EachCached
+        } else {
+            AnyBatch::Each
+        };
+        with_tree!(self, t => t.any_stream(rays, out, how))
     }
 
     /// Counts interior nodes visited and triangle lanes tested (4 per block, padding

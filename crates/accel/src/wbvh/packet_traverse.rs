@@ -420,7 +420,7 @@ impl<N: WideNode> WideTree<N> {
     ) -> bool {
         let br = BoxRay::from_parts(p.org, [p.inv[0][l], p.inv[1][l], p.inv[2][l]]);
         let below = Below { root, ray, br: &br, tmin: p.tmin[l], tmax: p.tmax[l] };
-        self.any_below::<K, NoCount>(&below, pr, stack, &mut NoCount)
+        self.any_below::<K, NoCount>(&below, pr, stack, &mut NoCount).is_some()
     }
 
     /// Lane `l` (ray `ray`) alone through the subtree under the interior node `root`,

@@ -38,6 +38,11 @@ pub struct WbvhParams {
     /// `Auto` for batches that do not look coherent on trees of 16 MiB or more. Same
     /// answers either way.
     pub interleave: Interleave,
+    /// Any-hit batches that look coherent ([`super::looks_coherent`]) and are walked one
+    /// ray after the other test the leaf that occluded the previous ray first (a
+    /// last-occluder cache, stream.rs): same answers, less work where neighbouring rays
+    /// share an occluder (shadow rays of neighbouring pixels).
+    pub occluder_cache: bool,
 }
 
 /// Meshes under this many triangles count as small for [`WbvhParams::auto_intersection_cost`]:
@@ -93,6 +98,7 @@ impl Default for WbvhParams {
             auto_intersection_cost: true,
             kernel: KernelRequest::Auto,
             interleave: Interleave::Auto,
+            occluder_cache: true,
         }
     }
 }
@@ -113,6 +119,10 @@ impl StructureParams for WbvhParams {
         ParamKey {
             name: "interleave",
             doc: "batches of rays keep several in flight per thread: auto (incoherent batches on trees of 16 MiB or more), on, off (default auto)",
+        },
+        ParamKey {
+            name: "occluder_cache",
+            doc: "coherent any-hit batches test the previous ray's occluding leaf first, on/off (default on)",
         },
         ParamKey {
             name: "reinsert",
@@ -140,6 +150,7 @@ impl StructureParams for WbvhParams {
                 self.auto_intersection_cost = false;
             }
             "reinsert" => self.bvh.reinsert = value::bool(s, key, v)?,
+            "occluder_cache" => self.occluder_cache = value::bool(s, key, v)?,
             "interleave" => {
                 let i = value::choice(s, key, v, &Interleave::NAMES, "auto, on or off")?;
                 self.interleave = Interleave::from_index(i);

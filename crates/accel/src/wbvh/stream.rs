@@ -64,6 +64,17 @@ impl<T: Copy + Default, const S: usize> Walk<T, S> {
     }
 }
 
+/// How [`WideTree::any_stream`] walks a batch of any-hit queries.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum AnyBatch {
+    /// [`IN_FLIGHT`] rays interleaved.
+    Interleaved,
+    /// One ray after the other.
+    Each,
+    /// One ray after the other, each testing the last occluder's leaf first.
+    EachCached,
+}
+
 /// Rays in flight per thread. Measured in docs/structures.md ("Streams").
 pub const IN_FLIGHT: usize = 2;
 
@@ -148,17 +159,18 @@ impl<N: WideNode> WideTree<N> {
         self.closest_stream_sized::<Scalar>(rays, hits, interleaved)
     }
 
-    /// `out[i]` = `any(rays[i])` for every ray, as [`WideTree::closest_stream`].
+    /// `out[i]` = `any(rays[i])` for every ray, as [`WideTree::closest_stream`]; rays
+    /// that are not interleaved test the last occluder first where `cache` is on.
     #[allow(unsafe_code)]
-    pub(super) fn any_stream(&self, rays: &[Ray], out: &mut [bool], interleaved: bool) {
+    pub(super) fn any_stream(&self, rays: &[Ray], out: &mut [bool], how: AnyBatch) {
         #[cfg(target_arch = "x86_64")]
         match self.kernel {
             // SAFETY: as in `closest_stream`.
-            KernelChoice::Avx512 => return unsafe { self.any_stream_avx512(rays, out, interleaved) },
-            KernelChoice::Avx2 => return unsafe { self.any_stream_avx2(rays, out, interleaved) },
+            KernelChoice::Avx512 => return unsafe { self.any_stream_avx512(rays, out, how) },
+            KernelChoice::Avx2 => return unsafe { self.any_stream_avx2(rays, out, how) },
             KernelChoice::Scalar => {}
         }
-        self.any_stream_sized::<Scalar>(rays, out, interleaved)
+        self.any_stream_sized::<Scalar>(rays, out, how)
     }
 
     #[cfg(target_arch = "x86_64")]
@@ -178,15 +190,15 @@ impl<N: WideNode> WideTree<N> {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     #[allow(unsafe_code)]
-    unsafe fn any_stream_avx2(&self, rays: &[Ray], out: &mut [bool], interleaved: bool) {
-        self.any_stream_sized::<super::kernel_avx2::Avx2>(rays, out, interleaved)
+    unsafe fn any_stream_avx2(&self, rays: &[Ray], out: &mut [bool], how: AnyBatch) {
+        self.any_stream_sized::<super::kernel_avx2::Avx2>(rays, out, how)
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,avx512f,avx512vl")]
     #[allow(unsafe_code)]
-    unsafe fn any_stream_avx512(&self, rays: &[Ray], out: &mut [bool], interleaved: bool) {
-        self.any_stream_sized::<super::kernel_avx512::Avx512>(rays, out, interleaved)
+    unsafe fn any_stream_avx512(&self, rays: &[Ray], out: &mut [bool], how: AnyBatch) {
+        self.any_stream_sized::<super::kernel_avx512::Avx512>(rays, out, how)
     }
 
     #[inline(always)]
@@ -214,13 +226,16 @@ impl<N: WideNode> WideTree<N> {
     }
 
     #[inline(always)]
-    fn any_stream_sized<K: Kernel>(&self, rays: &[Ray], out: &mut [bool], interleaved: bool) {
+    fn any_stream_sized<K: Kernel>(&self, rays: &[Ray], out: &mut [bool], how: AnyBatch) {
         crate::batch::check_batch_lengths(rays.len(), out.len());
-        match (interleaved, self.stack_need <= SMALL_STACK) {
-            (true, true) => self.any_stream_with::<K, SMALL_STACK>(rays, out),
-            (true, false) => self.any_stream_with::<K, STACK_CAPACITY>(rays, out),
-            (false, true) => self.any_each_with::<K, SMALL_STACK>(rays, out),
-            (false, false) => self.any_each_with::<K, STACK_CAPACITY>(rays, out),
+        let small = self.stack_need <= SMALL_STACK;
+        match how {
+            AnyBatch::Interleaved if small => self.any_stream_with::<K, SMALL_STACK>(rays, out),
+            AnyBatch::Interleaved => self.any_stream_with::<K, STACK_CAPACITY>(rays, out),
+            AnyBatch::EachCached if small => self.any_each_cached::<K, SMALL_STACK>(rays, out),
+            AnyBatch::EachCached => self.any_each_cached::<K, STACK_CAPACITY>(rays, out),
+            AnyBatch::Each if small => self.any_each_with::<K, SMALL_STACK>(rays, out),
+            AnyBatch::Each => self.any_each_with::<K, STACK_CAPACITY>(rays, out),
         }
     }
 
@@ -230,6 +245,30 @@ impl<N: WideNode> WideTree<N> {
         let mut stack = [0 as ChildRef; S];
         for (ray, o) in rays.iter().zip(out) {
             *o = self.any_on::<K, NoCount>(ray, &mut stack, &mut NoCount);
+        }
+    }
+
+    /// [`WideTree::any_each_with`] with a last-occluder cache (Haines and Greenberg's
+    /// shadow cache): a ray that follows an occluded one tests the leaf that occluded it
+    /// first, and is done if that leaf holds a hit. The leaf test is the walk's own, so
+    /// the answers are the uncached ones exactly; only the work changes. A ray that is
+    /// not occluded empties the cache, so runs of lit points pay no extra test.
+    #[inline(always)]
+    fn any_each_cached<K: Kernel, const S: usize>(&self, rays: &[Ray], out: &mut [bool]) {
+        let mut stack = [0 as ChildRef; S];
+        let mut last: Option<ChildRef> = None;
+        for (ray, o) in rays.iter().zip(out) {
+            let mut pr = None;
+            if let Some(leaf) = last {
+                let (first, count) = leaf_blocks(leaf);
+                if K::any_leaf(&self.blocks[first..first + count], prepared(&mut pr, ray)) {
+                    *o = true;
+                    continue;
+                }
+            }
+            let b = Below { root: 0, ray, br: &BoxRay::new(ray), tmin: ray.tmin, tmax: ray.tmax };
+            last = self.any_below::<K, NoCount>(&b, &mut pr, &mut stack, &mut NoCount);
+            *o = last.is_some();
         }
     }
 

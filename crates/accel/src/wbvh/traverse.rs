@@ -361,12 +361,13 @@ impl<N: WideNode> WideTree<N> {
     #[inline(always)]
     pub(super) fn any_on<K: Kernel, C: Counter>(&self, ray: &Ray, stack: &mut [ChildRef], c: &mut C) -> bool {
         let b = Below { root: 0, ray, br: &BoxRay::new(ray), tmin: ray.tmin, tmax: ray.tmax };
-        self.any_below::<K, C>(&b, &mut None, stack, c)
+        self.any_below::<K, C>(&b, &mut None, stack, c).is_some()
     }
 
-    /// True when the ray hits a triangle of the subtree `b.root` within its interval, as
-    /// the any-hit walk from the root decides it there (also how a packet's lane finishes
-    /// a subtree alone): `pr` is filled at the first leaf.
+    /// The leaf holding a triangle the ray hits within its interval in the subtree
+    /// `b.root`, the first the any-hit walk from the root finds there (also how a packet's
+    /// lane finishes a subtree alone); `None` when there is none. `pr` is filled at the
+    /// first leaf.
     #[inline(always)]
     pub(super) fn any_below<K: Kernel, C: Counter>(
         &self,
@@ -374,7 +375,7 @@ impl<N: WideNode> WideTree<N> {
         pr: &mut Option<PreparedRay>,
         stack: &mut [ChildRef],
         c: &mut C,
-    ) -> bool {
+    ) -> Option<ChildRef> {
         let (ray, br, tmin, tmax) = (b.ray, b.br, b.tmin, b.tmax);
         let mut sp = 0usize;
         let mut near: Nears = [0.0; 8];
@@ -385,7 +386,7 @@ impl<N: WideNode> WideTree<N> {
                 let (first, count) = leaf_blocks(cur);
                 c.triangles(4 * count as u32);
                 if K::any_leaf(&self.blocks[first..first + count], pr) {
-                    return true;
+                    return Some(cur);
                 }
             } else {
                 let node = &self.nodes[cur as usize];
@@ -397,7 +398,7 @@ impl<N: WideNode> WideTree<N> {
                 }
             }
             if sp == 0 {
-                return false;
+                return None;
             }
             sp -= 1;
             cur = stack[sp];
