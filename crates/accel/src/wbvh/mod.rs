@@ -7,7 +7,7 @@
 //! scalar specification and kernel choice), `kernel_avx2.rs` and `kernel_avx512.rs` (the AVX2 and AVX-512 kernels),
 //! `traverse.rs`, `packet.rs`, `packet_avx2.rs` and `packet_traverse.rs` (8-ray packets
 //! for coherent rays), `stream.rs` (batches: two incoherent rays in flight per thread, or
-//! one after the other on one stack),
+//! one after the other on one stack, any-hit ones with a last-occluder cache),
 //! `refit.rs`, `validate.rs`.
 //!
 //! This is `--accel bvh`, the default structure and the CPU's fast path. The binary tree

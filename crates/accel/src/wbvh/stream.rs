@@ -10,7 +10,8 @@
 //!
 //! Batches that are not interleaved (coherent ones under `interleave=auto`, or `off`) run
 //! the single-ray walk one ray after the other on one stack for the whole batch, which
-//! spares the per-ray stack set-up of `closest`.
+//! spares the per-ray stack set-up of `closest`; coherent any-hit batches walked that way
+//! test the last occluder's leaf first (`occluder_cache`, [`WideTree::any_each_cached`]).
 
 #[cfg(target_arch = "x86_64")]
 use super::kernel::KernelChoice;
