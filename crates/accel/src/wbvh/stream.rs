@@ -160,8 +160,9 @@ impl<N: WideNode> WideTree<N> {
         self.closest_stream_sized::<Scalar>(rays, hits, interleaved)
     }
 
-    /// `out[i]` = `any(rays[i])` for every ray, as [`WideTree::closest_stream`]; rays
-    /// that are not interleaved test the last occluder first where `cache` is on.
+    /// `out[i]` = `any(rays[i])` for every ray, as [`WideTree::closest_stream`]; `how`
+    /// picks interleaved, one after the other, or one after the other with the
+    /// last-occluder cache ([`AnyBatch`]).
     #[allow(unsafe_code)]
     pub(super) fn any_stream(&self, rays: &[Ray], out: &mut [bool], how: AnyBatch) {
         #[cfg(target_arch = "x86_64")]
