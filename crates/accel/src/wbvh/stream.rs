@@ -11,7 +11,7 @@
 //! Batches that are not interleaved (coherent ones under `interleave=auto`, or `off`) run
 //! the single-ray walk one ray after the other on one stack for the whole batch, which
 //! spares the per-ray stack set-up of `closest`; coherent any-hit batches walked that way
-//! test the last occluder's leaf first (`occluder_cache`, [`WideTree::any_each_cached`]).
+//! test the last occluder's leaf first (`occluder_cache`, [`WideTree::any_each`]).
 
 #[cfg(target_arch = "x86_64")]
 use super::kernel::KernelChoice;
@@ -234,29 +234,21 @@ impl<N: WideNode> WideTree<N> {
         match how {
             AnyBatch::Interleaved if small => self.any_stream_with::<K, SMALL_STACK>(rays, out),
             AnyBatch::Interleaved => self.any_stream_with::<K, STACK_CAPACITY>(rays, out),
-            AnyBatch::EachCached if small => self.any_each_cached::<K, SMALL_STACK>(rays, out),
-            AnyBatch::EachCached => self.any_each_cached::<K, STACK_CAPACITY>(rays, out),
-            AnyBatch::Each if small => self.any_each_with::<K, SMALL_STACK>(rays, out),
-            AnyBatch::Each => self.any_each_with::<K, STACK_CAPACITY>(rays, out),
+            AnyBatch::EachCached if small => self.any_each::<K, SMALL_STACK, true>(rays, out),
+            AnyBatch::EachCached => self.any_each::<K, STACK_CAPACITY, true>(rays, out),
+            AnyBatch::Each if small => self.any_each::<K, SMALL_STACK, false>(rays, out),
+            AnyBatch::Each => self.any_each::<K, STACK_CAPACITY, false>(rays, out),
         }
     }
 
-    /// One ray after the other on one stack, as [`WideTree::closest_each_with`].
+    /// One ray after the other on one stack, as [`WideTree::closest_each_with`]; with
+    /// `CACHED`, a last-occluder cache (Haines and Greenberg's shadow cache): a ray that
+    /// follows an occluded one tests the leaf that occluded it first, and is done if that
+    /// leaf holds a hit. The leaf test is the walk's own, so the answers are the uncached
+    /// ones exactly; only the work changes. A ray that is not occluded empties the cache,
+    /// so runs of lit points pay no extra test.
     #[inline(always)]
-    fn any_each_with<K: Kernel, const S: usize>(&self, rays: &[Ray], out: &mut [bool]) {
-        let mut stack = [0 as ChildRef; S];
-        for (ray, o) in rays.iter().zip(out) {
-            *o = self.any_on::<K, NoCount>(ray, &mut stack, &mut NoCount);
-        }
-    }
-
-    /// [`WideTree::any_each_with`] with a last-occluder cache (Haines and Greenberg's
-    /// shadow cache): a ray that follows an occluded one tests the leaf that occluded it
-    /// first, and is done if that leaf holds a hit. The leaf test is the walk's own, so
-    /// the answers are the uncached ones exactly; only the work changes. A ray that is
-    /// not occluded empties the cache, so runs of lit points pay no extra test.
-    #[inline(always)]
-    fn any_each_cached<K: Kernel, const S: usize>(&self, rays: &[Ray], out: &mut [bool]) {
+    fn any_each<K: Kernel, const S: usize, const CACHED: bool>(&self, rays: &[Ray], out: &mut [bool]) {
         let mut stack = [0 as ChildRef; S];
         let mut last: Option<ChildRef> = None;
         for (ray, o) in rays.iter().zip(out) {
@@ -269,8 +261,11 @@ impl<N: WideNode> WideTree<N> {
                 }
             }
             let b = Below { root: 0, ray, br: &BoxRay::new(ray), tmin: ray.tmin, tmax: ray.tmax };
-            last = self.any_below::<K, NoCount>(&b, &mut pr, &mut stack, &mut NoCount);
-            *o = last.is_some();
+            let found = self.any_below::<K, NoCount>(&b, &mut pr, &mut stack, &mut NoCount);
+            *o = found.is_some();
+            if CACHED {
+                last = found;
+            }
         }
     }
 

@@ -354,14 +354,8 @@ impl<N: WideNode> WideTree<N> {
     /// −1 %, BART kitchen −5 %; the farthest first, bunny +2 %, kitchen −6 %.
     #[inline(always)]
     fn any_with<K: Kernel, C: Counter, const S: usize>(&self, ray: &Ray, c: &mut C) -> bool {
-        self.any_on::<K, C>(ray, &mut [0 as ChildRef; S], c)
-    }
-
-    /// The any-hit walk of `ray` on `stack` (at least `stack_need` entries).
-    #[inline(always)]
-    pub(super) fn any_on<K: Kernel, C: Counter>(&self, ray: &Ray, stack: &mut [ChildRef], c: &mut C) -> bool {
         let b = Below { root: 0, ray, br: &BoxRay::new(ray), tmin: ray.tmin, tmax: ray.tmax };
-        self.any_below::<K, C>(&b, &mut None, stack, c).is_some()
+        self.any_below::<K, C>(&b, &mut None, &mut [0 as ChildRef; S], c).is_some()
     }
 
     /// The leaf holding a triangle the ray hits within its interval in the subtree
