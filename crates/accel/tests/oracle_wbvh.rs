@@ -9,7 +9,7 @@
 mod support;
 
 use dynray_accel::wbvh::KernelRequest;
-use dynray_accel::{Accel, AccelKind, AccelSpec, BatchQuery, Wbvh, WbvhParams};
+use dynray_accel::{Accel, AccelKind, AccelSpec, BatchQuery, Coherent, Wbvh, WbvhParams};
 use dynray_geom::{Ray, TriangleMesh, Vec3};
 use support::degenerate::{coplanar_sheet, million_to_one_strip, rays_at};
 use support::*;
@@ -271,4 +271,133 @@ fn block_cost_off_builds_a_valid_tree_too() {
     // Block cost makes fewer, fuller leaves (the point of it).
     assert!(on.leaves < w.stats().leaves, "{} vs {}", on.leaves, w.stats().leaves);
     assert_matches_oracle(&w, &mesh, &dragon_rays(&mesh), "dragon_res2 block_cost=off");
+}
+
+/// Large slanted triangles among small ones (what pre-splitting cuts), seeded.
+fn slanted_mesh(seed: u64, big: usize, small: usize) -> TriangleMesh {
+    use rand::{rngs::SmallRng, Rng, SeedableRng};
+    let mut rng = SmallRng::seed_from_u64(seed);
+    let mut p = |r: f32| Vec3::new(rng.gen_range(-r..r), rng.gen_range(-r..r), rng.gen_range(-r..r));
+    let mut positions = Vec::new();
+    for _ in 0..big {
+        positions.extend([p(10.0), p(10.0), p(10.0)].map(|v| v.to_array()));
+    }
+    for _ in 0..small {
+        let c = p(9.0);
+        positions.extend([c + p(0.3), c + p(0.3), c + p(0.3)].map(|v| v.to_array()));
+    }
+    let indices = (0..(big + small) as u32).map(|i| [3 * i, 3 * i + 1, 3 * i + 2]).collect();
+    TriangleMesh::new(positions, indices)
+}
+
+/// Rays aimed at the points where the mesh's triangles cross the planes of the first
+/// levels of a power-of-two grid over the mesh's box (where pre-splitting cuts), from
+/// random points around the mesh: hits that land on the seam between two parts.
+fn rays_at_grid_planes(mesh: &TriangleMesh, n: usize, seed: u64) -> Vec<Ray> {
+    use rand::{rngs::SmallRng, Rng, SeedableRng};
+    let mut rng = SmallRng::seed_from_u64(seed);
+    let b = mesh.bounds();
+    let diag = b.extent().length();
+    let mut rays = Vec::with_capacity(n);
+    while rays.len() < n {
+        let t = mesh.triangle(rng.gen_range(0..mesh.triangle_count()));
+        let axis = rng.gen_range(0..3);
+        let level = rng.gen_range(1..6);
+        let cells = (1u32 << level) as f32;
+        let c = b.min[axis] + (b.extent()[axis] / cells) * rng.gen_range(1..(1u32 << level)) as f32;
+        let v = [t.p0, t.p1, t.p2];
+        for i in 0..3 {
+            let (p, q) = (v[i], v[(i + 1) % 3]);
+            if (p[axis] - c) * (q[axis] - c) < 0.0 {
+                let s = (c - p[axis]) / (q[axis] - p[axis]);
+                let at = p + (q - p) * s;
+                let from =
+                    at + Vec3::new(rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0)) * diag;
+                rays.push(Ray::new(from, at - from));
+            }
+        }
+    }
+    rays.truncate(n);
+    rays
+}
+
+/// The first frame of BART's kitchen: 110k triangles, walls, floor and table tops of a
+/// few large triangles each (the scene pre-splitting was measured on).
+fn kitchen() -> TriangleMesh {
+    let scene = dynray_scene::load_file(&scenes_dir().join("bart/kitchen/aff/kitchen.aff"))
+        .unwrap_or_else(|e| panic!("test scene missing or unreadable ({e}); set DYNRAY_SCENES"));
+    scene.frame(scene.animation.timeline.time_of(0)).mesh
+}
+
+/// Pre-split trees (a triangle in several leaves, each leaf box over its parts) give brute
+/// force's answers at both widths with every kernel, on the kitchen, a slanted synthetic
+/// mesh and the Cornell box, including rays that hit exactly where the parts meet; they
+/// validate, and they really split.
+#[test]
+fn presplit_trees_match_brute() {
+    let cornell = dynray_scene::load_file(&scenes_dir().join("cornell-box/mcguire-obj/CornellBox-Original.obj"))
+        .expect("Cornell box")
+        .frame(0.0)
+        .mesh;
+    for (label, mesh, rays_n) in [
+        ("kitchen", kitchen(), 6_000),
+        ("slanted", slanted_mesh(21, 300, 20_000), 20_000),
+        ("cornell", cornell, 20_000),
+    ] {
+        let mut rays = random_rays(&mesh, rays_n, 31);
+        rays.extend(adversarial_rays(&mesh, rays_n / 4, 32));
+        rays.extend(rays_at_grid_planes(&mesh, rays_n / 2, 33));
+        for v in variants() {
+            for budget in ["0.1", "1"] {
+                let spec: AccelSpec = format!("{v},presplit={budget}").parse().unwrap();
+                let a = spec.build(&mesh, None).unwrap();
+                let s = a.validate(&mesh).unwrap_or_else(|e| panic!("{label} {spec}: {e}"));
+                // (The Cornell box's 36 triangles get under one extra reference at 0.1.)
+                let must_split = budget == "1" || label != "cornell";
+                assert!(s.primitive_refs > mesh.triangle_count() || !must_split, "{label} {spec}: nothing split");
+                assert_matches_oracle(a.as_ref(), &mesh, &rays, &format!("{label} ({spec})"));
+                // Packets (groups of 8 rays from one origin) through the same tree.
+                let packets = one_origin_groups(&rays);
+                let want = brute_hits(&mesh, &packets);
+                let got = Coherent(a.as_ref()).intersect_batch(&packets);
+                let occ = Coherent(a.as_ref()).occluded_batch(&packets);
+                let bad =
+                    (0..packets.len()).filter(|&i| !got[i].same_as(&want[i]) || occ[i] != want[i].is_hit()).count();
+                assert_eq!(bad, 0, "{label} ({spec}): {bad} of {} packet lanes differ from brute force", packets.len());
+            }
+        }
+    }
+}
+
+/// A pre-split tree refits: its leaves then hold the moved triangles' whole boxes, and it
+/// answers as brute force on the moved mesh.
+#[test]
+fn presplit_tree_refits() {
+    let mesh = slanted_mesh(22, 200, 10_000);
+    let mut a = build_unchecked("bvh:presplit=0.5", &mesh);
+    for (step, amp) in [(0u64, 0.01f32), (1, 0.2)] {
+        let moved = wave(&mesh, amp, step as f32);
+        a.update(&moved).unwrap();
+        a.validate(&moved).unwrap_or_else(|e| panic!("after refit: {e}"));
+        let mut rays = random_rays(&moved, 5_000, 700 + step);
+        rays.extend(adversarial_rays(&moved, 2_000, 800 + step));
+        assert_matches_oracle(a.as_ref(), &moved, &rays, &format!("presplit refit, wave {amp}"));
+    }
+    assert!(a.update(&slanted_mesh(22, 200, 9_999)).is_err(), "a mesh of another triangle count refits");
+}
+
+/// `rays` regrouped into packets: each group of 8 consecutive rays restarted from the
+/// first one's origin, aimed at the same points.
+fn one_origin_groups(rays: &[Ray]) -> Vec<Ray> {
+    rays.chunks(8)
+        .flat_map(|g| {
+            let o = g[0].origin;
+            g.iter().map(move |r| Ray::new(o, r.origin + r.dir - o))
+        })
+        .collect()
+}
+
+fn build_unchecked(spec: &str, mesh: &TriangleMesh) -> Box<dyn Accel> {
+    let spec: AccelSpec = spec.parse().unwrap();
+    spec.build(mesh, None).unwrap_or_else(|e| panic!("{spec}: {e}"))
 }

@@ -123,7 +123,7 @@ pub(super) struct Built {
 
 /// Builds the BVH of `mesh`.
 pub(super) fn build(mesh: &TriangleMesh, params: &BvhParams) -> Result<Built, BuildError> {
-    build_limited(mesh, params, SAH_DEPTH_LIMIT, 0, true)
+    build_limited(mesh, params, SAH_DEPTH_LIMIT, 0, true, 0.0)
 }
 
 /// [`build`] with the block-cost SAH of wide BVHs: a leaf of `n` triangles costs
@@ -131,13 +131,16 @@ pub(super) fn build(mesh: &TriangleMesh, params: &BvhParams) -> Result<Built, Bu
 /// leaves `2^block_shift` triangles at a time (Embree's `sahBlockSize`). `block_shift = 0`
 /// is [`build`] exactly. Without `tris` the leaf-order triangle copies are not made (the
 /// wide BVH's collapse reads the mesh by id: the copies were 31 MB it threw away).
+/// `presplit > 0` cuts about `presplit × n` extra references first (presplit.rs): a
+/// triangle may then sit in several leaves, never twice in one.
 pub(super) fn build_blocks(
     mesh: &TriangleMesh,
     params: &BvhParams,
     block_shift: u32,
     tris: bool,
+    presplit: f32,
 ) -> Result<Built, BuildError> {
-    build_limited(mesh, params, SAH_DEPTH_LIMIT, block_shift, tris)
+    build_limited(mesh, params, SAH_DEPTH_LIMIT, block_shift, tris, presplit)
 }
 
 /// [`build`] with median splits from depth `sah_depth_limit` on (tests use small limits:
@@ -148,6 +151,7 @@ fn build_limited(
     sah_depth_limit: u32,
     block_shift: u32,
     with_tris: bool,
+    presplit: f32,
 ) -> Result<Built, BuildError> {
     params.validate()?;
     mesh.validate()?;
@@ -156,8 +160,11 @@ fn build_limited(
     if n > (u32::MAX / 2) as usize {
         return Err(BuildError::Limit(format!("{n} triangles: the BVH node encoding holds at most 2^31 - 1")));
     }
-    let mut refs: Vec<PrimRef> =
-        (0..n).into_par_iter().with_min_len(4096).map(|i| PrimRef::new(&mesh.triangle(i).bounds(), i as u32)).collect();
+    let mut refs: Vec<PrimRef> = if presplit > 0.0 {
+        super::presplit::presplit_refs(mesh, presplit)
+    } else {
+        (0..n).into_par_iter().with_min_len(4096).map(|i| PrimRef::new(&mesh.triangle(i).bounds(), i as u32)).collect()
+    };
     // Box and centroid box in one pass; below the root, partition gathers centroid boxes.
     let (bounds, cb) = refs
         .par_chunks(BIN_CHUNK)
@@ -169,6 +176,10 @@ fn build_limited(
     let (mut nodes, mut depth) = assemble(part, count as usize);
     let mut ids: Vec<u32> = refs.par_iter().with_min_len(4096).map(|r| r.id()).collect();
     drop(refs);
+    if ids.len() > n {
+        // Parts of one triangle often land in one leaf: test it there once.
+        ids = super::presplit::dedup_leaves(&mut nodes, &ids);
+    }
     if params.reinsert {
         let (kt, ki) = (params.traversal_cost, params.intersection_cost);
         // The leaf cost this build used, so the pass's stopping rule weighs what it did.
@@ -451,7 +462,7 @@ pub(super) mod tests {
         let p = BvhParams::default();
         let sah = build(&mesh, &p).unwrap();
         for limit in [0, 1, 3] {
-            let b = build_limited(&mesh, &p, limit, 0, true).unwrap();
+            let b = build_limited(&mesh, &p, limit, 0, true, 0.0).unwrap();
             // Median splits halve every node: at most ceil(log2(2000)) = 11 more levels.
             assert!(b.depth <= limit + 11, "limit {limit}: depth {}", b.depth);
             assert_ne!(b.nodes, sah.nodes, "limit {limit} changed nothing");
@@ -477,7 +488,7 @@ pub(super) mod tests {
         let p = BvhParams::default();
         let run = |threads: usize, shift: u32| {
             let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-            pool.install(|| build_blocks(&mesh, &p, shift, false).unwrap())
+            pool.install(|| build_blocks(&mesh, &p, shift, false, 0.0).unwrap())
         };
         for shift in [0, 2] {
             let (one, two) = (run(1, shift), run(2, shift));

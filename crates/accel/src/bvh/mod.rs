@@ -20,6 +20,7 @@ mod closest;
 pub mod node;
 pub mod params;
 mod partition;
+mod presplit;
 mod prim_ref;
 mod refit;
 mod reinsert;
@@ -71,7 +72,7 @@ impl Bvh {
         params: &BvhParams,
         block_shift: u32,
     ) -> Result<Self, BuildError> {
-        let built = build::build_blocks(mesh, params, block_shift, true)?;
+        let built = build::build_blocks(mesh, params, block_shift, true, 0.0)?;
         let bvh = Self { nodes: built.nodes, tris: built.tris, ids: built.ids, params: *params, depth: built.depth };
         #[cfg(debug_assertions)]
         if let Err(e) = bvh.check_invariants(mesh) {
@@ -81,13 +82,15 @@ impl Bvh {
     }
 
     /// The node array and leaf-order mesh ids of [`Bvh::build_block_cost`]'s tree, without
-    /// the leaf-order triangle copies the wide BVH's collapse does not read.
+    /// the leaf-order triangle copies the wide BVH's collapse does not read; with
+    /// `presplit > 0` over pre-split references (a mesh id may then repeat across leaves).
     pub(crate) fn build_block_cost_nodes(
         mesh: &TriangleMesh,
         params: &BvhParams,
         block_shift: u32,
+        presplit: f32,
     ) -> Result<(Vec<BvhNode>, Vec<u32>), BuildError> {
-        let built = build::build_blocks(mesh, params, block_shift, false)?;
+        let built = build::build_blocks(mesh, params, block_shift, false, presplit)?;
         Ok((built.nodes, built.ids))
     }
 

@@ -354,7 +354,7 @@ mod tests {
     }
 
     fn tree(mesh: &TriangleMesh, p: &BvhParams, shift: u32) -> Bvh {
-        let b = build_blocks(mesh, p, shift, true).unwrap();
+        let b = build_blocks(mesh, p, shift, true, 0.0).unwrap();
         Bvh { nodes: b.nodes, tris: b.tris, ids: b.ids, params: *p, depth: b.depth }
     }
 
@@ -409,7 +409,7 @@ mod tests {
         let p = BvhParams { reinsert: true, ..BvhParams::default() };
         let run = |threads: usize| {
             let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-            pool.install(|| build_blocks(&mesh, &p, 2, false).unwrap())
+            pool.install(|| build_blocks(&mesh, &p, 2, false, 0.0).unwrap())
         };
         let (one, two) = (run(1), run(2));
         assert_eq!((one.nodes, one.ids, one.depth), (two.nodes, two.ids, two.depth));

@@ -77,24 +77,32 @@ struct WideTree<N> {
     stack_need: usize,
     /// The kernel chosen at build time.
     kernel: KernelChoice,
+    /// Triangles of the mesh it was built over (what a refit's mesh must have).
+    triangles: usize,
+    /// Built over pre-split references: a triangle may sit in several leaves, each leaf's
+    /// box holding only its part (`WbvhParams::presplit`).
+    presplit: bool,
 }
 
 impl<N: WideNode> WideTree<N> {
     /// Collapses the binary tree `bin` (leaf-order mesh ids `ids`) over `mesh`.
     fn collapse(bin: &[BvhNode], ids: &[u32], mesh: &TriangleMesh, kernel: KernelChoice) -> Result<Self, BuildError> {
-        Self::from(collapse::collapse::<N>(bin, ids, |_, id| mesh.triangle(id as usize))?, kernel)
+        let triangles = mesh.triangle_count();
+        let c = collapse::collapse::<N>(bin, ids, |_, id| mesh.triangle(id as usize))?;
+        Ok(Self::from(c, kernel, triangles, ids.len() > triangles))
     }
 
     /// Collapses a built binary tree, reading its triangle copies.
     #[cfg(test)]
     fn build(bvh: &Bvh, kernel: KernelChoice) -> Result<Self, BuildError> {
         let tris = bvh.triangles();
-        Self::from(collapse::collapse::<N>(bvh.nodes(), bvh.triangle_ids(), |i, _| tris[i])?, kernel)
+        let c = collapse::collapse::<N>(bvh.nodes(), bvh.triangle_ids(), |i, _| tris[i])?;
+        Ok(Self::from(c, kernel, tris.len(), false))
     }
 
-    fn from(c: collapse::Collapsed<N>, kernel: KernelChoice) -> Result<Self, BuildError> {
+    fn from(c: collapse::Collapsed<N>, kernel: KernelChoice, triangles: usize, presplit: bool) -> Self {
         let stack_need = traverse::stack_need(c.levels, N::W);
-        Ok(Self { nodes: c.nodes, blocks: c.blocks, levels: c.levels, stack_need, kernel })
+        Self { nodes: c.nodes, blocks: c.blocks, levels: c.levels, stack_need, kernel, triangles, presplit }
     }
 }
 
@@ -117,7 +125,7 @@ impl Wbvh {
         params.validate()?;
         let shift = if params.block_cost { 2 } else { 0 };
         let bvh = params.bvh_for(mesh.triangle_count());
-        let (bin, ids) = Bvh::build_block_cost_nodes(mesh, &bvh, shift)?;
+        let (bin, ids) = Bvh::build_block_cost_nodes(mesh, &bvh, shift, params.presplit)?;
         let kernel = KernelChoice::resolve(params.kernel).map_err(|message| BuildError::Param {
             structure: "bvh",
             name: "kernel",

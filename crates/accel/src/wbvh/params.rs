@@ -43,7 +43,15 @@ pub struct WbvhParams {
     /// last-occluder cache, stream.rs): same answers, less work where neighbouring rays
     /// share an occluder (shadow rays of neighbouring pixels).
     pub occluder_cache: bool,
+    /// Pre-splitting (bvh/presplit.rs): about `presplit × n` extra triangle references
+    /// cut from the triangles that fill their boxes worst, before the binned build; 0 is
+    /// off, at most [`MAX_PRESPLIT`]. Same answers; a refit keeps the tree valid with the
+    /// moved triangles' whole boxes.
+    pub presplit: f32,
 }
+
+/// Largest [`WbvhParams::presplit`] budget (4 extra references per triangle).
+pub const MAX_PRESPLIT: f32 = 4.0;
 
 /// Meshes under this many triangles count as small for [`WbvhParams::auto_intersection_cost`]:
 /// their trees (~56 bytes per triangle) stay under the 16 MiB from which the walks wait on
@@ -99,6 +107,7 @@ impl Default for WbvhParams {
             kernel: KernelRequest::Auto,
             interleave: Interleave::Auto,
             occluder_cache: true,
+            presplit: 0.0,
         }
     }
 }
@@ -123,6 +132,10 @@ impl StructureParams for WbvhParams {
         ParamKey {
             name: "occluder_cache",
             doc: "coherent any-hit batches test the previous ray's occluding leaf first, on/off (default on)",
+        },
+        ParamKey {
+            name: "presplit",
+            doc: "extra triangle references cut from badly boxed triangles before the build, per triangle, 0–4 (default 0: off)",
         },
         ParamKey {
             name: "reinsert",
@@ -151,6 +164,7 @@ impl StructureParams for WbvhParams {
             }
             "reinsert" => self.bvh.reinsert = value::bool(s, key, v)?,
             "occluder_cache" => self.occluder_cache = value::bool(s, key, v)?,
+            "presplit" => self.presplit = value::f32(s, key, v)?,
             "interleave" => {
                 let i = value::choice(s, key, v, &Interleave::NAMES, "auto, on or off")?;
                 self.interleave = Interleave::from_index(i);
@@ -172,6 +186,9 @@ impl StructureParams for WbvhParams {
         }
         if self.bvh.max_leaf_size > 32 {
             return err("max_leaf_size", format!("{} is above 32 (8 blocks of 4)", self.bvh.max_leaf_size));
+        }
+        if !(0.0..=MAX_PRESPLIT).contains(&self.presplit) {
+            return err("presplit", format!("{} is outside 0–{MAX_PRESPLIT}", self.presplit));
         }
         // The binary builder's own ranges (bins, leaf_size, costs), named as ours.
         self.bvh.validate().map_err(|e| match e {
@@ -201,6 +218,9 @@ mod tests {
             (WbvhParams { bvh: BvhParams { max_leaf_size: 33, ..d.bvh }, ..d }, "max_leaf_size"),
             (WbvhParams { bvh: BvhParams { bins: 1, ..d.bvh }, ..d }, "bins"),
             (WbvhParams { bvh: BvhParams { leaf_size: 40, ..d.bvh }, ..d }, "leaf_size"),
+            (WbvhParams { presplit: -0.5, ..d }, "presplit"),
+            (WbvhParams { presplit: f32::NAN, ..d }, "presplit"),
+            (WbvhParams { presplit: 5.0, ..d }, "presplit"),
         ];
         for (p, want) in bad {
             match p.validate() {

@@ -13,11 +13,11 @@ impl<N: WideNode> WideTree<N> {
     /// a leaf, which children a node has) is kept, so a large deformation leaves a valid
     /// but slower tree; hits stay exact because every box is rebuilt from the new
     /// triangles. On an unchanged mesh it reproduces the built boxes exactly (the built
-    /// boxes are the same unions).
+    /// boxes are the same unions), except in a pre-split tree: there a leaf's box becomes
+    /// the union of its whole triangles, no longer of their parts (valid, looser).
     pub(super) fn refit(&mut self, mesh: &TriangleMesh) -> Result<(), BuildError> {
-        let n: usize = self.blocks.iter().map(|b| b.real_lanes()).sum();
-        if mesh.triangle_count() != n {
-            return Err(BuildError::TopologyChanged { built: n, given: mesh.triangle_count() });
+        if mesh.triangle_count() != self.triangles {
+            return Err(BuildError::TopologyChanged { built: self.triangles, given: mesh.triangle_count() });
         }
         mesh.validate()?;
         self.blocks.par_iter_mut().with_min_len(1024).for_each(|b| {

@@ -102,6 +102,70 @@ fn breaks_are_caught<N: WideNode>() {
     expect_broken(&b, &mesh, "in no leaf");
 }
 
+/// The grid with two large slanted triangles across it, built pre-split.
+fn presplit_tree() -> (TriangleMesh, WideTree<Node8>) {
+    let mut mesh = grid();
+    let b = mesh.positions.len() as u32;
+    mesh.positions.extend([[0.0, 0.0, -2.0], [30.0, 3.0, 3.0], [2.0, 30.0, 1.0], [30.0, 30.0, -1.0]]);
+    mesh.indices.extend([[b, b + 1, b + 2], [b + 1, b + 3, b + 2]]);
+    let w = Wbvh::build(&mesh, &WbvhParams { presplit: 0.05, ..WbvhParams::default() }).unwrap();
+    match w.tree {
+        super::Tree::W8(t) => (mesh, t),
+        super::Tree::W4(_) => unreachable!("width 8 asked for"),
+    }
+}
+
+#[test]
+fn the_validator_catches_broken_presplit_trees() {
+    let (mesh, t) = presplit_tree();
+    let shape = t.check(&mesh).unwrap();
+    let big = (mesh.triangle_count() - 2) as u32;
+    let leaves_of = |t: &WideTree<Node8>, id: u32| {
+        let mut v = Vec::new();
+        for (n, node) in t.nodes.iter().enumerate() {
+            for k in 0..node.count() {
+                let c = node.child(k);
+                if is_leaf(c) {
+                    let (first, count) = leaf_blocks(c);
+                    if t.blocks[first..first + count].iter().any(|b| b.ids.contains(&id)) {
+                        v.push((n, k));
+                    }
+                }
+            }
+        }
+        v
+    };
+    assert!(t.presplit && shape.triangles > mesh.triangle_count(), "{shape:?}");
+    assert!(leaves_of(&t, big).len() > 1, "the big triangle was not split");
+
+    // One part of a triangle twice in a leaf.
+    let mut b = t.clone();
+    let (i, lane) = b
+        .blocks
+        .iter()
+        .enumerate()
+        .find_map(|(i, x)| (x.real_lanes() >= 2).then_some((i, 1)))
+        .expect("a block of two triangles");
+    let first = b.blocks[i].triangle(0);
+    let id0 = b.blocks[i].ids[0];
+    b.blocks[i].set(lane, &first, id0);
+    expect_broken(&b, &mesh, "repeated");
+
+    // The leaves of the big triangle shrunk away from one of its corners.
+    let mut b = t.clone();
+    for (n, k) in leaves_of(&b, big) {
+        let mut bx = b.nodes[n].child_box(k);
+        bx.max -= (bx.max - bx.min) * 0.01;
+        b.nodes[n].set_box(k, &bx);
+    }
+    expect_broken(&b, &mesh, "do not cover");
+
+    // A refit keeps it valid.
+    let mut b = t.clone();
+    b.refit(&mesh).unwrap();
+    b.check(&mesh).unwrap();
+}
+
 #[test]
 fn the_validator_catches_broken_4_wide_trees() {
     breaks_are_caught::<Node4>();

@@ -53,34 +53,72 @@ fn bad(node: usize, what: String) -> InvalidWbvh {
 
 impl<N: WideNode> WideTree<N> {
     /// [`WideTree::shape`], then every block lane is an exact copy of its mesh triangle and
-    /// the blocks hold every mesh triangle exactly once.
+    /// the blocks hold every mesh triangle exactly once; in a pre-split tree at least once
+    /// and never twice in one leaf, each vertex inside the box of a leaf holding the
+    /// triangle, and the triangle's box inside the hull of those leaves' boxes (what the
+    /// parts' boxes covering the triangle implies).
     pub(super) fn check(&self, mesh: &TriangleMesh) -> Result<WbvhShape, InvalidWbvh> {
-        let shape = self.shape()?;
+        let (shape, leaf_of_block) = self.walk()?;
         let n = mesh.triangle_count();
-        if shape.triangles != n {
-            return Err(bad(0, format!("mesh has {n} triangles, tree {}", shape.triangles)));
+        if n != self.triangles || (!self.presplit && shape.triangles != n) || shape.triangles < n {
+            return Err(bad(
+                0,
+                format!("mesh has {n} triangles, tree {} (built over {})", shape.triangles, self.triangles),
+            ));
         }
-        let mut seen = vec![false; n];
+        // Per triangle: the last leaf (by its first block) it was seen in, the hull of its
+        // leaves' boxes, and which of its vertices a leaf box holds.
+        let mut last_leaf = vec![usize::MAX; n];
+        let mut hull = vec![Aabb::EMPTY; n];
+        let mut vertices_in = vec![0u8; n];
         for (i, b) in self.blocks.iter().enumerate() {
+            let (leaf, leaf_box) = leaf_of_block[i];
             for lane in (0..LANES).filter(|&l| !b.is_pad(l)) {
                 let id = b.ids[lane] as usize;
-                if id >= n || std::mem::replace(&mut seen[id], true) {
-                    return Err(bad(0, format!("block {i} lane {lane}: triangle id {id} out of range or repeated")));
+                if id >= n {
+                    return Err(bad(0, format!("block {i} lane {lane}: triangle id {id} out of range")));
                 }
-                if b.triangle(lane) != mesh.triangle(id) {
+                let seen_before = last_leaf[id] != usize::MAX;
+                if (seen_before && !self.presplit) || last_leaf[id] == leaf {
+                    return Err(bad(0, format!("block {i} lane {lane}: triangle {id} repeated")));
+                }
+                let t = mesh.triangle(id);
+                if b.triangle(lane) != t {
                     return Err(bad(0, format!("block {i} lane {lane} is not a copy of mesh triangle {id}")));
                 }
+                last_leaf[id] = leaf;
+                hull[id] = hull[id].union(&leaf_box);
+                for (k, p) in [t.p0, t.p1, t.p2].into_iter().enumerate() {
+                    if leaf_box.contains_point(p) {
+                        vertices_in[id] |= 1 << k;
+                    }
+                }
+            }
+        }
+        for id in 0..n {
+            if last_leaf[id] == usize::MAX {
+                return Err(bad(0, format!("triangle {id} in no leaf")));
+            }
+            let t = mesh.triangle(id);
+            if vertices_in[id] != 0b111 || !hull[id].contains(&t.bounds()) {
+                return Err(bad(0, format!("the leaves holding triangle {id} do not cover it: {t:?}")));
             }
         }
         Ok(shape)
     }
 
+    /// [`WideTree::walk`]'s shape.
+    pub(super) fn shape(&self) -> Result<WbvhShape, InvalidWbvh> {
+        self.walk().map(|(s, _)| s)
+    }
+
     /// The invariants that need no mesh: every node reached once from the root and after
     /// its parent, lanes `count..W` empty, child boxes non-empty and inside the parent's
-    /// box for that child, leaf triangles inside their leaf's box, every block in exactly
-    /// one leaf, padding lanes NaN (what makes them miss in the SIMD kernel), the recorded
-    /// depth the real one and the stack it needs within [`STACK_CAPACITY`].
-    pub(super) fn shape(&self) -> Result<WbvhShape, InvalidWbvh> {
+    /// box for that child, leaf triangles inside their leaf's box (in a pre-split tree:
+    /// touching it), every block in exactly one leaf, padding lanes NaN (what makes them
+    /// miss in the SIMD kernel), the recorded depth the real one and the stack it needs
+    /// within [`STACK_CAPACITY`]. Also gives each block's leaf (its first block) and box.
+    fn walk(&self) -> Result<(WbvhShape, Vec<(usize, Aabb)>), InvalidWbvh> {
         let nodes = &self.nodes;
         if nodes.is_empty() || self.blocks.is_empty() {
             return Err(bad(0, format!("{} nodes, {} blocks", nodes.len(), self.blocks.len())));
@@ -88,7 +126,7 @@ impl<N: WideNode> WideTree<N> {
         let mut s = WbvhShape::default();
         let mut sizes = crate::LeafSizes::new();
         let mut reached = vec![false; nodes.len()];
-        let mut block_used = vec![false; self.blocks.len()];
+        let mut leaf_of_block = vec![(usize::MAX, Aabb::EMPTY); self.blocks.len()];
         let root_box = (0..nodes[0].count()).fold(Aabb::EMPTY, |b, k| b.union(&nodes[0].child_box(k)));
         let root_area = root_box.surface_area() as f64;
         let mut sah = 0.0f64;
@@ -122,10 +160,10 @@ impl<N: WideNode> WideTree<N> {
                     }
                     let mut tris = 0;
                     for (j, blk) in self.blocks[first..first + nb].iter().enumerate() {
-                        if std::mem::replace(&mut block_used[first + j], true) {
+                        if std::mem::replace(&mut leaf_of_block[first + j], (first, b)).0 != usize::MAX {
                             return Err(bad(i, format!("block {} in two leaves", first + j)));
                         }
-                        check_block(blk, &b).map_err(|e| bad(i, format!("block {}: {e}", first + j)))?;
+                        check_block(blk, &b, self.presplit).map_err(|e| bad(i, format!("block {}: {e}", first + j)))?;
                         tris += blk.real_lanes();
                     }
                     s.leaves += 1;
@@ -151,7 +189,7 @@ impl<N: WideNode> WideTree<N> {
         if s.interior != nodes.len() {
             return Err(bad(0, format!("{} of {} nodes unreachable", nodes.len() - s.interior, nodes.len())));
         }
-        if let Some(j) = block_used.iter().position(|u| !u) {
+        if let Some(j) = leaf_of_block.iter().position(|u| u.0 == usize::MAX) {
             return Err(bad(0, format!("block {j} in no leaf")));
         }
         if s.levels != self.levels || stack_need(s.levels, N::W) != self.stack_need {
@@ -165,12 +203,14 @@ impl<N: WideNode> WideTree<N> {
         }
         s.leaf_sizes = sizes.finish();
         s.sah_cost = (root_area > 0.0).then(|| sah / root_area);
-        Ok(s)
+        Ok((s, leaf_of_block))
     }
 }
 
-/// A block's real lanes inside `leaf_box`, at least one real lane, padding all NaN.
-fn check_block(b: &TriBlock, leaf_box: &Aabb) -> Result<(), String> {
+/// A block's real lanes inside `leaf_box` (touching it, where `parts`: a pre-split
+/// tree's leaf box holds only a part of a triangle), at least one real lane, padding all
+/// NaN.
+fn check_block(b: &TriBlock, leaf_box: &Aabb, parts: bool) -> Result<(), String> {
     if b.real_lanes() == 0 {
         return Err("no triangle".into());
     }
@@ -180,8 +220,15 @@ fn check_block(b: &TriBlock, leaf_box: &Aabb) -> Result<(), String> {
             if ![t.p0, t.p1, t.p2].iter().all(|p| p.is_nan_mask().all()) {
                 return Err(format!("padding lane {lane} is not NaN: {t:?}"));
             }
-        } else if !leaf_box.contains(&b.triangle(lane).bounds()) {
-            return Err(format!("lane {lane} sticks out of {leaf_box:?}"));
+        } else {
+            let t = b.triangle(lane).bounds();
+            let inside = if parts { !leaf_box.intersection(&t).is_empty() } else { leaf_box.contains(&t) };
+            if !inside {
+                return Err(format!(
+                    "lane {lane} ({t:?}) {} {leaf_box:?}",
+                    if parts { "misses" } else { "sticks out of" }
+                ));
+            }
         }
     }
     Ok(())
