@@ -23,34 +23,44 @@ const MAX_LEVEL: u32 = 20;
 
 /// The references of `mesh`'s triangles with about `budget × n` extra ones from splits:
 /// each triangle gets pieces in proportion to its priority (how much its box exceeds the
-/// triangle), at least one.
+/// triangle), at least one. A cut triangle's first part takes its place in the array, the
+/// others are appended (few triangles are cut: the whole-triangle references are made as
+/// the unsplit build makes them, and only the cut ones are revisited).
 pub(super) fn presplit_refs(mesh: &TriangleMesh, budget: f32) -> Vec<PrimRef> {
     let n = mesh.triangle_count();
-    let scene = (0..n)
-        .into_par_iter()
-        .with_min_len(4096)
-        .fold(|| Box3::EMPTY, |b, i| b.union(&box3(&mesh.triangle(i).bounds())))
+    let mut refs: Vec<PrimRef> =
+        (0..n).into_par_iter().with_min_len(4096).map(|i| PrimRef::new(&mesh.triangle(i).bounds(), i as u32)).collect();
+    let scene = refs
+        .par_chunks(4096)
+        .map(|c| c.iter().fold(Box3::EMPTY, |b, r| b.union(&r.bounds())))
         .reduce(|| Box3::EMPTY, |a, b| a.union(&b));
     let priority: Vec<f32> = (0..n).into_par_iter().with_min_len(4096).map(|i| priority(&mesh.triangle(i))).collect();
     // Summed in f64 in index order: the piece counts do not depend on the thread count.
     let total: f64 = priority.iter().map(|&p| p as f64).sum();
+    if total <= 0.0 {
+        return refs;
+    }
     let extra = budget as f64 * n as f64;
-    let pieces =
-        |i: usize| if total > 0.0 { (1 + (priority[i] as f64 / total * extra) as u32).min(MAX_PIECES) } else { 1 };
-    (0..n)
-        .into_par_iter()
-        .with_min_len(1024)
-        .flat_map_iter(|i| {
-            let tri = mesh.triangle(i);
-            let k = pieces(i);
-            if k == 1 {
-                return rayon::iter::Either::Left(std::iter::once(PrimRef::new(&tri.bounds(), i as u32)));
-            }
-            let mut out = Vec::with_capacity(k as usize);
-            split(&tri, box3(&tri.bounds()), k, &scene, &mut out);
-            rayon::iter::Either::Right(out.into_iter().map(move |b| PrimRef::new(&b.aabb(), i as u32)))
+    let cut: Vec<(usize, u32)> = (0..n)
+        .filter_map(|i| {
+            let k = (1 + (priority[i] as f64 / total * extra) as u32).min(MAX_PIECES);
+            (k > 1).then_some((i, k))
         })
-        .collect()
+        .collect();
+    let parts: Vec<Vec<Box3>> = cut
+        .par_iter()
+        .map(|&(i, k)| {
+            let t = mesh.triangle(i);
+            let mut out = Vec::with_capacity(k as usize);
+            split(&t, box3(&t.bounds()), k, &scene, &mut out);
+            out
+        })
+        .collect();
+    for (&(i, _), boxes) in cut.iter().zip(&parts) {
+        refs[i] = PrimRef::new(&boxes[0].aabb(), i as u32);
+        refs.extend(boxes[1..].iter().map(|b| PrimRef::new(&b.aabb(), i as u32)));
+    }
+    refs
 }
 
 /// Most references one triangle is cut into (Embree's presplit caps it at 32 too).
