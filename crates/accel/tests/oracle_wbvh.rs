@@ -237,6 +237,20 @@ fn identical_triangles_tie_to_the_lowest_index() {
     }
 }
 
+/// Refits `a` to two waves of `mesh` (amplitudes 0.01 and 0.2), validating it and
+/// holding it to brute force after each on `random` = (count, seed) random and
+/// `adversarial` rays of the moved mesh (seeds + the wave's step).
+fn follow_waves(a: &mut dyn Accel, mesh: &TriangleMesh, label: &str, random: (usize, u64), adversarial: (usize, u64)) {
+    for (step, amp) in [(0u64, 0.01f32), (1, 0.2)] {
+        let moved = wave(mesh, amp, step as f32);
+        a.update(&moved).unwrap();
+        a.validate(&moved).unwrap_or_else(|e| panic!("{label} after refit: {e}"));
+        let mut rays = random_rays(&moved, random.0, random.1 + step);
+        rays.extend(adversarial_rays(&moved, adversarial.0, adversarial.1 + step));
+        assert_matches_oracle(a, &moved, &rays, &format!("{label} wave {amp}"));
+    }
+}
+
 #[test]
 fn refit_follows_a_wave_and_refitting_back_restores_the_tree() {
     let mesh = bunny();
@@ -247,14 +261,7 @@ fn refit_follows_a_wave_and_refitting_back_restores_the_tree() {
         let probe = random_rays(&mesh, 5_000, 90);
         let hits_before = a.as_ref().intersect_batch(&probe);
         // The waves and rays of oracle.rs's update test, so the brute-force answers are shared.
-        for (step, amp) in [(0u64, 0.01f32), (1, 0.2)] {
-            let moved = wave(&mesh, amp, step as f32);
-            a.update(&moved).unwrap();
-            a.validate(&moved).unwrap_or_else(|e| panic!("{v} after refit: {e}"));
-            let mut rays = random_rays(&moved, 4_000, 500 + step);
-            rays.extend(adversarial_rays(&moved, 1_000, 600 + step));
-            assert_matches_oracle(a.as_ref(), &moved, &rays, &format!("{v} wave {amp}"));
-        }
+        follow_waves(a.as_mut(), &mesh, v, (4_000, 500), (1_000, 600));
         a.update(&mesh).unwrap();
         assert_eq!(a.stats(), before, "{v}: refitting back must give the built tree");
         assert!(a.as_ref().intersect_batch(&probe).iter().zip(&hits_before).all(|(x, y)| x.same_as(y)), "{v}");
@@ -349,8 +356,8 @@ fn presplit_trees_match_brute() {
         rays.extend(rays_at_grid_planes(&mesh, rays_n / 2, 33));
         for v in variants() {
             for budget in ["0.1", "1"] {
-                let spec: AccelSpec = format!("{v},presplit={budget}").parse().unwrap();
-                let a = spec.build(&mesh, None).unwrap();
+                let spec = format!("{v},presplit={budget}");
+                let a = build_unchecked(&spec, &mesh);
                 let s = a.validate(&mesh).unwrap_or_else(|e| panic!("{label} {spec}: {e}"));
                 // (The Cornell box's 36 triangles get under one extra reference at 0.1.)
                 let must_split = budget == "1" || label != "cornell";
@@ -375,14 +382,7 @@ fn presplit_trees_match_brute() {
 fn presplit_tree_refits() {
     let mesh = slanted_mesh(22, 200, 10_000);
     let mut a = build_unchecked("bvh:presplit=0.5", &mesh);
-    for (step, amp) in [(0u64, 0.01f32), (1, 0.2)] {
-        let moved = wave(&mesh, amp, step as f32);
-        a.update(&moved).unwrap();
-        a.validate(&moved).unwrap_or_else(|e| panic!("after refit: {e}"));
-        let mut rays = random_rays(&moved, 5_000, 700 + step);
-        rays.extend(adversarial_rays(&moved, 2_000, 800 + step));
-        assert_matches_oracle(a.as_ref(), &moved, &rays, &format!("presplit refit, wave {amp}"));
-    }
+    follow_waves(a.as_mut(), &mesh, "presplit refit", (5_000, 700), (2_000, 800));
     assert!(a.update(&slanted_mesh(22, 200, 9_999)).is_err(), "a mesh of another triangle count refits");
 }
 

@@ -160,11 +160,10 @@ fn build_limited(
     if n > (u32::MAX / 2) as usize {
         return Err(BuildError::Limit(format!("{n} triangles: the BVH node encoding holds at most 2^31 - 1")));
     }
-    let mut refs: Vec<PrimRef> = if presplit > 0.0 {
-        super::presplit::presplit_refs(mesh, presplit)
-    } else {
-        (0..n).into_par_iter().with_min_len(4096).map(|i| PrimRef::new(&mesh.triangle(i).bounds(), i as u32)).collect()
-    };
+    let mut refs = triangle_refs(mesh);
+    if presplit > 0.0 {
+        super::presplit::cut_refs(mesh, &mut refs, presplit);
+    }
     // Box and centroid box in one pass; below the root, partition gathers centroid boxes.
     let (bounds, cb) = refs
         .par_chunks(BIN_CHUNK)
@@ -196,6 +195,12 @@ fn build_limited(
         Vec::new()
     };
     Ok(Built { nodes, tris, ids, depth })
+}
+
+/// One reference per triangle of `mesh`, in mesh order: its box and index.
+pub(super) fn triangle_refs(mesh: &TriangleMesh) -> Vec<PrimRef> {
+    let n = mesh.triangle_count();
+    (0..n).into_par_iter().with_min_len(4096).map(|i| PrimRef::new(&mesh.triangle(i).bounds(), i as u32)).collect()
 }
 
 /// How a node is divided.

@@ -14,22 +14,21 @@
 
 use super::prim_ref::{Box3, PrimRef};
 use super::BvhNode;
-use dynray_geom::{Aabb, Triangle, TriangleMesh};
+use dynray_geom::{Triangle, TriangleMesh};
 use glam::Vec3A;
 use rayon::prelude::*;
 
 /// Finest grid level a plane is chosen from (2^20 cells per axis over the scene).
 const MAX_LEVEL: u32 = 20;
 
-/// The references of `mesh`'s triangles with about `budget × n` extra ones from splits:
-/// each triangle gets pieces in proportion to its priority (how much its box exceeds the
-/// triangle), at least one. A cut triangle's first part takes its place in the array, the
-/// others are appended (few triangles are cut: the whole-triangle references are made as
-/// the unsplit build makes them, and only the cut ones are revisited).
-pub(super) fn presplit_refs(mesh: &TriangleMesh, budget: f32) -> Vec<PrimRef> {
+/// Cuts about `budget × n` extra references from `refs` (one whole-triangle reference per
+/// triangle, in mesh order, as the build makes them): each triangle gets pieces in
+/// proportion to its priority (how much its box exceeds the triangle), at least one. A
+/// cut triangle's first part takes its reference's place, the others are appended (few
+/// triangles are cut, so only those are revisited).
+pub(super) fn cut_refs(mesh: &TriangleMesh, refs: &mut Vec<PrimRef>, budget: f32) {
     let n = mesh.triangle_count();
-    let mut refs: Vec<PrimRef> =
-        (0..n).into_par_iter().with_min_len(4096).map(|i| PrimRef::new(&mesh.triangle(i).bounds(), i as u32)).collect();
+    debug_assert_eq!(refs.len(), n, "one reference per triangle before cutting");
     let scene = refs
         .par_chunks(4096)
         .map(|c| c.iter().fold(Box3::EMPTY, |b, r| b.union(&r.bounds())))
@@ -38,7 +37,7 @@ pub(super) fn presplit_refs(mesh: &TriangleMesh, budget: f32) -> Vec<PrimRef> {
     // Summed in f64 in index order: the piece counts do not depend on the thread count.
     let total: f64 = priority.iter().map(|&p| p as f64).sum();
     if total <= 0.0 {
-        return refs;
+        return;
     }
     let extra = budget as f64 * n as f64;
     let cut: Vec<(usize, u32)> = (0..n)
@@ -50,9 +49,8 @@ pub(super) fn presplit_refs(mesh: &TriangleMesh, budget: f32) -> Vec<PrimRef> {
     let parts: Vec<Vec<Box3>> = cut
         .par_iter()
         .map(|&(i, k)| {
-            let t = mesh.triangle(i);
             let mut out = Vec::with_capacity(k as usize);
-            split(&t, box3(&t.bounds()), k, &scene, &mut out);
+            split(&mesh.triangle(i), refs[i].bounds(), k, &scene, &mut out);
             out
         })
         .collect();
@@ -60,15 +58,10 @@ pub(super) fn presplit_refs(mesh: &TriangleMesh, budget: f32) -> Vec<PrimRef> {
         refs[i] = PrimRef::new(&boxes[0].aabb(), i as u32);
         refs.extend(boxes[1..].iter().map(|b| PrimRef::new(&b.aabb(), i as u32)));
     }
-    refs
 }
 
 /// Most references one triangle is cut into (Embree's presplit caps it at 32 too).
 const MAX_PIECES: u32 = 32;
-
-fn box3(b: &Aabb) -> Box3 {
-    Box3 { lo: b.min.into(), hi: b.max.into() }
-}
 
 /// How badly the triangle fills its box: the box's surface area less twice the
 /// triangle's area (a triangle filling a face of a flat box leaves nothing), square-rooted
@@ -199,22 +192,28 @@ pub(super) fn dedup_leaves(nodes: &mut [BvhNode], ids: &[u32]) -> Vec<u32> {
     let mut out = Vec::with_capacity(ids.len());
     for i in leaves {
         let (first, count) = (nodes[i].index as usize, nodes[i].count as usize);
-        let start = out.len();
-        out.extend_from_slice(&ids[first..first + count]);
-        out[start..].sort_unstable();
-        let mut run = out.split_off(start);
+        let mut run = ids[first..first + count].to_vec();
+        run.sort_unstable();
         run.dedup();
+        nodes[i].index = out.len() as u32;
+        nodes[i].count = run.len() as u32;
         out.extend_from_slice(&run);
-        nodes[i].index = start as u32;
-        nodes[i].count = (out.len() - start) as u32;
     }
     out
 }
 
 #[cfg(test)]
 mod tests {
+    use super::super::build::triangle_refs;
     use super::*;
-    use dynray_geom::Vec3;
+    use dynray_geom::{Aabb, Vec3};
+
+    /// The build's references of `mesh` after cutting.
+    fn presplit_refs(mesh: &TriangleMesh, budget: f32) -> Vec<PrimRef> {
+        let mut refs = triangle_refs(mesh);
+        cut_refs(mesh, &mut refs, budget);
+        refs
+    }
     use rand::{rngs::SmallRng, Rng, SeedableRng};
 
     /// `n` random triangles whose sizes span three orders of magnitude (radius `10 u⁴`,
@@ -264,7 +263,7 @@ mod tests {
         let mesh = sized_mesh(3, 400);
         for i in 0..mesh.triangle_count() {
             let t = mesh.triangle(i);
-            let b = box3(&t.bounds());
+            let b = Box3::from(&t.bounds());
             let axis = rng.gen_range(0..3);
             let c = rng.gen_range(b.lo[axis]..=b.hi[axis]);
             let (left, right) = clip(&t, &b, axis, c);
@@ -291,7 +290,7 @@ mod tests {
         let t = Triangle::new(Vec3::new(0.0, 0.0, 0.0), Vec3::new(3.0, 5.0, 0.0), Vec3::new(3.0, 0.0, 0.0));
         let y = 5.0f64 / 3.0;
         assert!(((y as f32) as f64) < y, "the check needs a crossing whose nearest f32 is below it");
-        let (left, _) = clip(&t, &box3(&t.bounds()), 0, 1.0);
+        let (left, _) = clip(&t, &Box3::from(&t.bounds()), 0, 1.0);
         let left = left.unwrap();
         assert!(contains(&left, [1.0, y, 0.0]), "{left:?}");
         assert_eq!(left.hi.x, 1.0, "the plane bounds the left side exactly");
@@ -313,7 +312,7 @@ mod tests {
         let mut rng = SmallRng::seed_from_u64(12);
         for (i, boxes) in of.iter().enumerate() {
             let t = mesh.triangle(i);
-            let tb = box3(&t.bounds());
+            let tb = Box3::from(&t.bounds());
             assert!(!boxes.is_empty(), "triangle {i} lost");
             for b in boxes {
                 assert!(tb.lo.cmple(b.lo).all() && b.hi.cmple(tb.hi).all(), "triangle {i}: {b:?} outside {tb:?}");

@@ -37,6 +37,12 @@ impl Box3 {
     }
 }
 
+impl From<&Aabb> for Box3 {
+    fn from(b: &Aabb) -> Self {
+        Box3 { lo: b.min.into(), hi: b.max.into() }
+    }
+}
+
 /// One triangle as the builder sees it, in 32 bytes (Embree's layout): its box, with the
 /// mesh index in the 4th lane of the low corner. The centroid is taken as `lo + hi` (twice
 /// the box centre: the scale cancels in binning), so it costs no storage; 48-byte refs with
