@@ -137,7 +137,9 @@ pub(super) fn lane(pr: &[Option<PreparedRay>; PACKET], l: usize) -> &PreparedRay
 }
 
 /// The lanes of `mask` (not empty) whose axis order is the lowest lane's: with the
-/// packet's shared origin, they share each block's vertices relative to it.
+/// packet's shared origin, they share each block's vertices relative to it. (The SIMD
+/// kernels' helper: the scalar kernel tests each lane alone.)
+#[cfg(target_arch = "x86_64")]
 #[inline(always)]
 pub(super) fn same_axis_order(mask: u32, pr: &[Option<PreparedRay>; PACKET]) -> u32 {
     let k = lane(pr, mask.trailing_zeros() as usize).k;
@@ -580,6 +582,7 @@ mod tests {
     }
 
     /// Every kernel computes the specification's mask and near distances.
+    #[cfg(target_arch = "x86_64")]
     fn check_boxes<N: WideNode>(kernel_boxes: impl Fn(&N, &BoxRay, f32, f32, &mut Nears) -> u32) {
         box_cases::<N>(|node, boxes, ray| {
             let (mut near, mut want_near) = ([0.0; 8], [0.0; 8]);

@@ -6,7 +6,7 @@ use super::kernel::Nears;
 use super::kernel::Scalar;
 use super::node::{Node4, Node8, WideNode};
 use super::packet::{lanes, Frustum, Lanes, Packet, PacketKernel, PACKET};
-use dynray_geom::{Aabb, Hit, PreparedRay, Ray, Vec3};
+use dynray_geom::{Aabb, PreparedRay, Ray, Vec3};
 use rand::{rngs::SmallRng, Rng, SeedableRng};
 
 fn grid(rng: &mut SmallRng) -> Vec3 {
@@ -238,8 +238,10 @@ fn avx2_frustum_and_entered_are_the_scalar_ones() {
             let mask = rng.gen_range(0..256u32);
             assert_eq!(Scalar::entered(&near, &limit, mask), Avx2::entered_checked(&near, &limit, mask));
             assert_eq!(Scalar::max_limit(&limit, mask), Avx2::max_limit_checked(&limit, mask), "{limit:?} {mask:#b}");
-            let best: [Hit; PACKET] =
-                std::array::from_fn(|_| Hit { t: [0.5, 1.0, 3.0, f32::INFINITY][rng.gen_range(0..4)], ..Hit::MISS });
+            let best: [dynray_geom::Hit; PACKET] = std::array::from_fn(|_| dynray_geom::Hit {
+                t: [0.5, 1.0, 3.0, f32::INFINITY][rng.gen_range(0..4)],
+                ..dynray_geom::Hit::MISS
+            });
             let (mut a, mut b) = (limit, limit);
             Scalar::update_limits(&mut a, &best, &p.tmax, mask & p.active);
             Avx2::update_limits_checked(&mut b, &best, &p.tmax, mask & p.active);
