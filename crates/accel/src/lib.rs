@@ -56,6 +56,7 @@ pub mod bvh;
 mod counters;
 mod error;
 pub mod grid;
+mod huge_pages;
 pub mod kdtree;
 pub mod octree;
 mod registry;

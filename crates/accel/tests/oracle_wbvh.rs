@@ -140,6 +140,27 @@ fn occluder_cache_answers_as_brute_force() {
     }
 }
 
+/// Trees on huge pages (`huge_pages=on`, what `auto` does above 16 MiB) answer as brute
+/// force, single rays and batches, and the stats say which layout a tree got.
+#[test]
+fn huge_page_trees_match_brute() {
+    let mesh = bunny();
+    let rays = bunny_rays(&mesh);
+    let advice = |a: &dyn Accel| a.stats().extra.into_iter().find(|(k, _)| k == "huge_pages").map(|(_, v)| v);
+    for (v, want) in [("bvh:huge_pages=on", "advised"), ("bvh:huge_pages=off", "off"), ("bvh", "off")] {
+        let a = build(v, &mesh);
+        // The bunny's 4 MiB tree is under `auto`'s threshold.
+        assert_eq!(advice(a.as_ref()).as_deref(), Some(want), "{v}");
+        assert_matches_oracle(a.as_ref(), &mesh, &rays, v);
+        let (got, occ) = (a.intersect_batch(&rays), a.occluded_batch(&rays));
+        for (i, r) in rays.iter().enumerate().step_by(7) {
+            let one = a.intersect(r);
+            assert_eq!((got[i].prim, got[i].t.to_bits()), (one.prim, one.t.to_bits()), "{v}: ray {i}");
+            assert_eq!(occ[i], a.occluded(r), "{v}: ray {i}");
+        }
+    }
+}
+
 #[test]
 fn each_kernel_is_what_kernel_asks_for() {
     let mesh = bunny();

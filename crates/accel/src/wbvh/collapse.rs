@@ -12,7 +12,8 @@
 
 use super::block::{TriBlock, LANES};
 use super::node::{leaf_ref, WideNode, MAX_BLOCKS};
-use crate::{BuildError, BvhNode};
+use super::params::HugePages;
+use crate::{huge_pages, BuildError, BvhNode};
 use dynray_geom::Triangle;
 use rayon::prelude::*;
 
@@ -22,15 +23,19 @@ pub(super) struct Collapsed<N> {
     pub blocks: Vec<TriBlock>,
     /// Interior levels on the deepest path (the root alone: 1).
     pub levels: u32,
+    /// Both arrays were advised for huge pages.
+    pub huge_pages: bool,
 }
 
 /// Collapses the binary tree `bin` (leaf-order mesh ids `ids`) into `W`-wide nodes;
 /// `tri(i, id)` gives leaf-order triangle `i`, mesh index `id` (the build reads the mesh,
-/// so the binary tree need not copy its triangles).
+/// so the binary tree need not copy its triangles). `pages` says whether the arrays go on
+/// huge pages, by the tree's size.
 pub(super) fn collapse<N: WideNode>(
     bin: &[BvhNode],
     ids: &[u32],
     tri: impl Fn(usize, u32) -> Triangle + Sync,
+    pages: HugePages,
 ) -> Result<Collapsed<N>, BuildError> {
     let n = ids.len();
     if n.div_ceil(4) + bin.len() > MAX_BLOCKS as usize {
@@ -40,9 +45,18 @@ pub(super) fn collapse<N: WideNode>(
         Collapser { bin, nodes: Vec::with_capacity(bin.len() / 4), slots: Vec::with_capacity(n / 3), levels: 0 };
     c.nodes.push(N::empty());
     c.node(0, 0, 1);
-    // Block `k` holds leaf-order triangles `slots[k] .. slots[k] + 4` (fewer at a leaf's end).
-    let blocks = c
-        .slots
+    // The sizes are known now: the nodes (a quarter of the tree or less) are copied onto
+    // huge pages, the blocks are written there in the first place.
+    let bytes = c.nodes.len() * std::mem::size_of::<N>() + c.slots.len() * std::mem::size_of::<TriBlock>();
+    let huge = pages.applies(bytes);
+    let nodes = if huge { huge_pages::copy(&c.nodes) } else { c.nodes };
+    let mut blocks = Vec::with_capacity(c.slots.len());
+    if huge {
+        huge_pages::advise(&blocks);
+    }
+    // Block `k` holds leaf-order triangles `slots[k] .. slots[k] + 4` (fewer at a leaf's
+    // end); `collect_into_vec` fills the allocation made above.
+    c.slots
         .par_iter()
         .with_min_len(1024)
         .map(|&(first, len)| {
@@ -53,8 +67,8 @@ pub(super) fn collapse<N: WideNode>(
             }
             block
         })
-        .collect();
-    Ok(Collapsed { nodes: c.nodes, blocks, levels: c.levels })
+        .collect_into_vec(&mut blocks);
+    Ok(Collapsed { nodes, blocks, levels: c.levels, huge_pages: huge })
 }
 
 struct Collapser<'a, N> {

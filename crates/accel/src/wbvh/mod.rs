@@ -38,7 +38,7 @@ pub use block::TriBlock;
 pub use kernel::{KernelRequest, FORCE_SCALAR_ENV};
 pub use node::{Node4, Node8, WideNode};
 pub use packet::PACKET;
-pub use params::WbvhParams;
+pub use params::{HugePages, WbvhParams, HUGE_PAGES_MIN_BYTES};
 pub use stream::{looks_coherent, Interleave, INTERLEAVE_MIN_BYTES};
 pub use validate::InvalidWbvh;
 
@@ -82,13 +82,21 @@ struct WideTree<N> {
     /// Built over pre-split references: a triangle may sit in several leaves, each leaf's
     /// box holding only its part (`WbvhParams::presplit`).
     presplit: bool,
+    /// The arrays were advised for huge pages (`WbvhParams::huge_pages`).
+    huge_pages: bool,
 }
 
 impl<N: WideNode> WideTree<N> {
     /// Collapses the binary tree `bin` (leaf-order mesh ids `ids`) over `mesh`.
-    fn collapse(bin: &[BvhNode], ids: &[u32], mesh: &TriangleMesh, kernel: KernelChoice) -> Result<Self, BuildError> {
+    fn collapse(
+        bin: &[BvhNode],
+        ids: &[u32],
+        mesh: &TriangleMesh,
+        kernel: KernelChoice,
+        pages: HugePages,
+    ) -> Result<Self, BuildError> {
         let triangles = mesh.triangle_count();
-        let c = collapse::collapse::<N>(bin, ids, |_, id| mesh.triangle(id as usize))?;
+        let c = collapse::collapse::<N>(bin, ids, |_, id| mesh.triangle(id as usize), pages)?;
         Ok(Self::from(c, kernel, triangles, ids.len() > triangles))
     }
 
@@ -96,13 +104,14 @@ impl<N: WideNode> WideTree<N> {
     #[cfg(test)]
     fn build(bvh: &Bvh, kernel: KernelChoice) -> Result<Self, BuildError> {
         let tris = bvh.triangles();
-        let c = collapse::collapse::<N>(bvh.nodes(), bvh.triangle_ids(), |i, _| tris[i])?;
+        let c = collapse::collapse::<N>(bvh.nodes(), bvh.triangle_ids(), |i, _| tris[i], HugePages::Auto)?;
         Ok(Self::from(c, kernel, tris.len(), false))
     }
 
     fn from(c: collapse::Collapsed<N>, kernel: KernelChoice, triangles: usize, presplit: bool) -> Self {
         let stack_need = traverse::stack_need(c.levels, N::W);
-        Self { nodes: c.nodes, blocks: c.blocks, levels: c.levels, stack_need, kernel, triangles, presplit }
+        let huge_pages = c.huge_pages;
+        Self { nodes: c.nodes, blocks: c.blocks, levels: c.levels, stack_need, kernel, triangles, presplit, huge_pages }
     }
 }
 
@@ -132,8 +141,8 @@ impl Wbvh {
             message: format!("{}: {message}", params.kernel.name()),
         })?;
         let tree = match params.width {
-            4 => Tree::W4(WideTree::collapse(&bin, &ids, mesh, kernel)?),
-            _ => Tree::W8(WideTree::collapse(&bin, &ids, mesh, kernel)?),
+            4 => Tree::W4(WideTree::collapse(&bin, &ids, mesh, kernel, params.huge_pages)?),
+            _ => Tree::W8(WideTree::collapse(&bin, &ids, mesh, kernel, params.huge_pages)?),
         };
         let w = Self { tree, params: *params, intersection_cost: bvh.intersection_cost };
         #[cfg(debug_assertions)]
@@ -267,6 +276,8 @@ impl Accel for Wbvh {
         extra.push(("filled_lanes".into(), format!("{:.1} %", 100.0 * shape.fill())));
         extra.push(("block_cost".into(), if self.params.block_cost { "on" } else { "off" }.into()));
         extra.push(("intersection_cost".into(), self.intersection_cost.to_string()));
+        let huge = with_tree!(self, t => t.huge_pages);
+        extra.push(("huge_pages".into(), if huge { "advised" } else { "off" }.into()));
         AccelStats {
             nodes: shape.interior + shape.leaves,
             leaves: shape.leaves,

@@ -48,7 +48,47 @@ pub struct WbvhParams {
     /// off, at most [`MAX_PRESPLIT`]. Same answers; a refit keeps the tree valid with the
     /// moved triangles' whole boxes.
     pub presplit: f32,
+    /// When the tree's nodes and blocks are laid out on huge pages (crate::huge_pages):
+    /// `Auto` for trees of [`HUGE_PAGES_MIN_BYTES`] or more. Same tree either way.
+    pub huge_pages: HugePages,
 }
+
+/// When a tree's arrays are advised for huge pages (`huge_pages=` of [`WbvhParams`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HugePages {
+    /// For trees of at least [`HUGE_PAGES_MIN_BYTES`].
+    Auto,
+    /// Always.
+    On,
+    /// Never.
+    Off,
+}
+
+impl HugePages {
+    /// The values `huge_pages=` takes, in declaration order.
+    pub const NAMES: [&'static str; 3] = ["auto", "on", "off"];
+
+    /// The policy named `NAMES[i]`.
+    pub fn from_index(i: usize) -> Self {
+        [HugePages::Auto, HugePages::On, HugePages::Off][i]
+    }
+
+    /// Whether a tree of `tree_bytes` goes on huge pages under this policy.
+    pub fn applies(self, tree_bytes: usize) -> bool {
+        match self {
+            HugePages::Auto => tree_bytes >= HUGE_PAGES_MIN_BYTES,
+            HugePages::On => true,
+            HugePages::Off => false,
+        }
+    }
+}
+
+/// Trees below this size stay on ordinary pages under `huge_pages=auto`. They fit the
+/// reach of Zen 4's L2 TLB (3,072 pages of 4 KiB, 12 MiB), and there huge pages measured
+/// −1 to −3 % on the BART kitchen (6.5 MiB) and ±1 % on the bunny (4 MiB); on the 47 MiB
+/// dragon, +6–10 % on diffuse and random rays and +25 % on shuffled shadow rays
+/// (docs/structures.md, "Huge pages").
+pub const HUGE_PAGES_MIN_BYTES: usize = 16 << 20;
 
 /// Largest [`WbvhParams::presplit`] budget (4 extra references per triangle).
 pub const MAX_PRESPLIT: f32 = 4.0;
@@ -108,6 +148,7 @@ impl Default for WbvhParams {
             interleave: Interleave::Auto,
             occluder_cache: true,
             presplit: 0.0,
+            huge_pages: HugePages::Auto,
         }
     }
 }
@@ -136,6 +177,10 @@ impl StructureParams for WbvhParams {
         ParamKey {
             name: "presplit",
             doc: "extra triangle references cut from badly boxed triangles before the build, per triangle, 0–4 (default 0: off)",
+        },
+        ParamKey {
+            name: "huge_pages",
+            doc: "lay the tree out on huge pages (Linux THP): auto (trees of 16 MiB or more), on, off (default auto)",
         },
         ParamKey {
             name: "reinsert",
@@ -168,6 +213,10 @@ impl StructureParams for WbvhParams {
             "interleave" => {
                 let i = value::choice(s, key, v, &Interleave::NAMES, "auto, on or off")?;
                 self.interleave = Interleave::from_index(i);
+            }
+            "huge_pages" => {
+                let i = value::choice(s, key, v, &HugePages::NAMES, "auto, on or off")?;
+                self.huge_pages = HugePages::from_index(i);
             }
             "kernel" => {
                 let i = value::choice(s, key, v, &KernelRequest::NAMES, "auto, avx512, avx2 or scalar")?;
@@ -202,6 +251,11 @@ impl StructureParams for WbvhParams {
 mod tests {
     use super::*;
 
+    /// `key=value` pairs as `from_pairs` takes them.
+    fn pairs(s: &[(&str, &str)]) -> Vec<(String, String)> {
+        s.iter().map(|(k, v)| (k.to_string(), v.to_string())).collect()
+    }
+
     #[test]
     fn presets_are_valid() {
         for (_, p) in WbvhParams::presets() {
@@ -234,7 +288,6 @@ mod tests {
 
     #[test]
     fn keys_set_their_fields() {
-        let pairs = |s: &[(&str, &str)]| s.iter().map(|(k, v)| (k.to_string(), v.to_string())).collect::<Vec<_>>();
         let p = WbvhParams::from_pairs(&pairs(&[("width", "4"), ("kernel", "scalar"), ("block_cost", "off")])).unwrap();
         assert_eq!((p.width, p.kernel, p.block_cost), (4, KernelRequest::Scalar, false));
         for (name, k) in
@@ -248,7 +301,6 @@ mod tests {
 
     #[test]
     fn intersection_cost_is_picked_by_size_unless_set() {
-        let pairs = |s: &[(&str, &str)]| s.iter().map(|(k, v)| (k.to_string(), v.to_string())).collect::<Vec<_>>();
         let d = WbvhParams::default();
         assert_eq!(d.bvh_for(SMALL_TREE_TRIANGLES - 1).intersection_cost, SMALL_TREE_INTERSECTION_COST);
         assert_eq!(d.bvh_for(SMALL_TREE_TRIANGLES).intersection_cost, 1.0);
@@ -258,5 +310,18 @@ mod tests {
         let auto = WbvhParams::from_pairs(&pairs(&[("intersection_cost", "2"), ("intersection_cost", "auto")]));
         assert_eq!(auto.unwrap().bvh_for(10).intersection_cost, SMALL_TREE_INTERSECTION_COST);
         assert!(WbvhParams::from_pairs(&pairs(&[("intersection_cost", "cheap")])).is_err());
+    }
+
+    #[test]
+    fn huge_pages_key_and_threshold() {
+        assert_eq!(WbvhParams::default().huge_pages, HugePages::Auto);
+        for (i, name) in HugePages::NAMES.iter().enumerate() {
+            let p = WbvhParams::from_pairs(&pairs(&[("huge_pages", name)])).unwrap();
+            assert_eq!(p.huge_pages, HugePages::from_index(i));
+        }
+        let e = WbvhParams::from_pairs(&pairs(&[("huge_pages", "sometimes")])).unwrap_err().to_string();
+        assert!(e.contains("huge_pages") && e.contains("sometimes"), "{e}");
+        assert!(HugePages::Auto.applies(HUGE_PAGES_MIN_BYTES) && !HugePages::Auto.applies(HUGE_PAGES_MIN_BYTES - 1));
+        assert!(HugePages::On.applies(0) && !HugePages::Off.applies(usize::MAX));
     }
 }
