@@ -19,7 +19,11 @@
 //! lane left after the edge tests (the usual case; `vdivpd zmm` issues once per 16
 //! cycles): −2 % on kitchen packets, shadow and diffuse rays, so the divide is not the
 //! bound; and a packet leaf's odd block tested one triangle at a time across 8 lanes
-//! instead of a block test per lane: kitchen packets −2 %, bunny −9 %.
+//! instead of a block test per lane: kitchen packets −2 %, bunny −9 %. Round 10 measured
+//! that idea again on Zen 4, for whole leaves (one triangle against up to 8 lanes in a
+//! `__m512d`, each lane's shear constants in a vector): every leaf, kitchen packets −11 %;
+//! only leaves shared by 6 or more lanes, kitchen −6 %, bunny −5 %, dragon −2 % (a
+//! triangle pays its divide once any lane passes its edge tests).
 //!
 //! Bit-identical to [`super::kernel::Scalar`] for the reasons kernel_avx2.rs gives: every
 //! lane performs the scalar test's IEEE operations in its order (no FMA intrinsic; Rust
