@@ -110,8 +110,8 @@ impl<N: WideNode> WideTree<N> {
 
     fn from(c: collapse::Collapsed<N>, kernel: KernelChoice, triangles: usize, presplit: bool) -> Self {
         let stack_need = traverse::stack_need(c.levels, N::W);
-        let huge_pages = c.huge_pages;
-        Self { nodes: c.nodes, blocks: c.blocks, levels: c.levels, stack_need, kernel, triangles, presplit, huge_pages }
+        let collapse::Collapsed { nodes, blocks, levels, huge_pages } = c;
+        Self { nodes, blocks, levels, stack_need, kernel, triangles, presplit, huge_pages }
     }
 }
 
