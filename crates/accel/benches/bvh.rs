@@ -1,6 +1,6 @@
 //! BVH build time and ray throughput on the bunny and the full dragon (871k triangles):
 //! 1024×1024 pinhole rays from `Camera::framing`, traced on all cores. Two groups per
-//! model: `bvh/…`, the binary tree (`bvh2`) per preset, and `wbvh/…`, the wide tree that
+//! model: `bvh2/…`, the binary tree (`bvh2`) per preset, and `bvh/…`, the wide tree that
 //! `bvh` names (build; primary rays one at a time and in packets of 8; any-hit on the same
 //! rays, one at a time and in packets of 8; random rays from inside the box, the
 //! incoherent case).
@@ -58,7 +58,7 @@ fn bench_model(c: &mut Criterion, name: &str, rel: &str) {
         Ok(only) => vec![only],
         Err(_) => vec!["fast".to_string(), "default".to_string(), "hq".to_string()],
     };
-    let mut g = c.benchmark_group(format!("bvh/{name}"));
+    let mut g = c.benchmark_group(format!("bvh2/{name}"));
     g.sample_size(10).warm_up_time(Duration::from_secs(1));
     for preset in &presets {
         let p = match preset.as_str() {
@@ -109,7 +109,7 @@ fn bench_wide(c: &mut Criterion, name: &str, rel: &str) {
     let rays = primary_rays(&mesh);
     let random = random_rays(&mesh, rays.len());
     let p = WbvhParams::default();
-    let mut g = c.benchmark_group(format!("wbvh/{name}"));
+    let mut g = c.benchmark_group(format!("bvh/{name}"));
     g.sample_size(10).warm_up_time(Duration::from_secs(1));
     g.throughput(Throughput::Elements(mesh.triangle_count() as u64));
     g.bench_function("build", |b| b.iter(|| Wbvh::build(&mesh, &p).unwrap()));

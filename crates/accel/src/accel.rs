@@ -184,7 +184,7 @@ impl FromIterator<usize> for LeafSizes {
 }
 
 /// A structure that failed [`Accel::validate`]: which one, and its own description of
-/// the first broken invariant (the structure's error type, e.g. [`crate::bvh::InvalidBvh`],
+/// the first broken invariant (the structure's error type, e.g. [`crate::bvh2::InvalidBvh`],
 /// is the source).
 #[derive(Debug, thiserror::Error)]
 #[error("{structure} failed validation: {source}")]

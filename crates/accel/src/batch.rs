@@ -71,7 +71,7 @@ impl<T: Accel + ?Sized> BatchQuery for T {
 pub struct Coherent<'a, A: ?Sized>(pub &'a A);
 
 // Packets are groups of consecutive rays: a chunk boundary must not split one.
-const _: () = assert!(BATCH_CHUNK.is_multiple_of(crate::wbvh::PACKET), "chunks must hold whole packets");
+const _: () = assert!(BATCH_CHUNK.is_multiple_of(crate::bvh::PACKET), "chunks must hold whole packets");
 
 impl<A: Accel + ?Sized> BatchQuery for Coherent<'_, A> {
     fn intersect_into(&self, rays: &[Ray], hits: &mut [Hit]) {

@@ -1,11 +1,11 @@
 //! Brute force: every ray against every triangle. The oracle all structures must match.
 //!
 //! The triangles are kept in index order as the wide BVH's 4-triangle blocks and tested
-//! by its block kernels (`wbvh/scan.rs`): the scalar kernel is `Triangle::intersect` lane
+//! by its block kernels (`bvh/scan.rs`): the scalar kernel is `Triangle::intersect` lane
 //! by lane, the AVX2 one computes the same bits four at a time (about 4× faster, which is
 //! most of the oracle tests' time), and `DYNRAY_FORCE_SCALAR=1` forces the scalar one.
 
-use crate::wbvh::{scan, KernelChoice, TriBlock};
+use crate::bvh::{scan, KernelChoice, TriBlock};
 use crate::InvalidStructure;
 use crate::{Accel, AccelStats, BuildError, Counter, NoCount, TraversalCounts};
 use dynray_geom::{Hit, PreparedRay, Ray, TriangleMesh};

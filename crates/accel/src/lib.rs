@@ -41,9 +41,9 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 #![deny(missing_docs)]
-// Everything here is plain safe Rust, except the wide BVH's SIMD kernels (wbvh/kernel_avx2.rs,
-// wbvh/kernel_avx512.rs, wbvh/packet_avx2.rs, and the `#[target_feature]` entry points in wbvh/traverse.rs,
-// wbvh/packet_traverse.rs and wbvh/scan.rs), which allow `unsafe_code` item by item with
+// Everything here is plain safe Rust, except the wide BVH's SIMD kernels (bvh/kernel_avx2.rs,
+// bvh/kernel_avx512.rs, bvh/packet_avx2.rs, and the `#[target_feature]` entry points in bvh/traverse.rs,
+// bvh/packet_traverse.rs and bvh/scan.rs), which allow `unsafe_code` item by item with
 // the reason beside it.
 #![deny(unsafe_code)]
 
@@ -53,7 +53,9 @@ pub mod batch;
 pub mod bih;
 pub mod brute;
 pub mod bvh;
+pub mod bvh2;
 mod counters;
+pub mod descriptor;
 mod error;
 pub mod grid;
 mod huge_pages;
@@ -64,15 +66,16 @@ mod spec;
 pub mod structure_params;
 pub mod two_level;
 pub mod update;
-pub mod wbvh;
 
 pub use accel::{Accel, AccelStats, InvalidStructure, LeafSizes};
 pub use apit::{ABuffer, Apit, ApitParams, Fragment};
 pub use batch::{check_batch_lengths, BatchQuery, Coherent, BATCH_CHUNK};
 pub use bih::{Bih, BihParams};
 pub use brute::Brute;
-pub use bvh::{Bvh, BvhNode, BvhParams, ClosestPoint, InvalidBvh};
+pub use bvh::{Wbvh, WbvhParams};
+pub use bvh2::{Bvh, BvhNode, BvhParams, ClosestPoint, InvalidBvh};
 pub use counters::{Counter, NoCount, TraversalCounts};
+pub use descriptor::{AccelDescriptor, DESCRIPTORS};
 pub use error::BuildError;
 pub use grid::{Grid, GridParams};
 pub use kdtree::{KdTree, KdTreeParams, KdTreeRopes};
@@ -81,5 +84,4 @@ pub use registry::AccelKind;
 pub use spec::{AccelSpec, BruteParams};
 pub use structure_params::{ParamKey, StructureParams};
 pub use two_level::{ActorGeometry, ActorMotion, LiveScene, PartUpdates, SceneLayout, TwoLevel};
-pub use update::{LiveAccel, UpdateAction, UpdatePolicy, UpdateReport};
-pub use wbvh::{Wbvh, WbvhParams};
+pub use update::{LiveAccel, PolicyState, PolicyTarget, UpdateAction, UpdatePolicy, UpdateReport};

@@ -1,4 +1,5 @@
-//! Choosing a structure by name (`--accel NAME`); [`AccelSpec`] adds its parameters.
+//! Choosing a structure by name (`--accel NAME`); [`AccelSpec`] adds its parameters,
+//! [`crate::descriptor`] holds what is known of each kind.
 
 use crate::{Accel, AccelSpec, BuildError};
 use dynray_geom::{TriangleMesh, Vec3};
@@ -37,7 +38,7 @@ impl AccelKind {
     /// Whether the structure depends on the observer (the A-PIT and the A-buffer centre
     /// their cube on the eye), so a moving camera alone means an update.
     pub fn is_view_dependent(self) -> bool {
-        matches!(self, AccelKind::Apit | AccelKind::ABuffer)
+        self.descriptor().view_dependent
     }
 
     /// All kinds, in the order listings show them.
@@ -57,19 +58,7 @@ impl AccelKind {
 
     /// The `--accel` spelling.
     pub fn name(self) -> &'static str {
-        match self {
-            AccelKind::Brute => "brute",
-            AccelKind::Bih => "bih",
-            AccelKind::Grid => "grid",
-            AccelKind::KdTree => "kdtree",
-            AccelKind::KdTreeRopes => "kdtree-ropes",
-            AccelKind::Bvh => "bvh",
-            AccelKind::Bvh2 => "bvh2",
-            AccelKind::Octree => "octree",
-            AccelKind::OctreeDescent => "octree-descent",
-            AccelKind::Apit => "apit",
-            AccelKind::ABuffer => "abuffer",
-        }
+        self.descriptor().name
     }
 
     /// Builds the structure over `mesh` with its default parameters (shorthand for

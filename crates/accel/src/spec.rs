@@ -7,10 +7,7 @@
 //! the `eye` given to [`AccelSpec::build`] unless told `observer=center`.
 
 use crate::structure_params::PRESET_KEY;
-use crate::{
-    ABuffer, Accel, AccelKind, Apit, ApitParams, Bih, BihParams, Brute, BuildError, Bvh, BvhParams, Grid, GridParams,
-    KdTree, KdTreeParams, KdTreeRopes, Octree, OctreeDescent, OctreeParams, StructureParams, Wbvh, WbvhParams,
-};
+use crate::{Accel, AccelKind, BuildError, BvhParams, StructureParams};
 use dynray_geom::{TriangleMesh, Vec3};
 use std::fmt;
 
@@ -58,44 +55,22 @@ impl AccelSpec {
 
     /// The preset names of `kind`, `default` among them.
     pub fn presets(kind: AccelKind) -> Vec<&'static str> {
-        fn names<P: StructureParams>() -> Vec<&'static str> {
-            P::presets().into_iter().map(|(n, _)| n).collect()
-        }
-        match kind {
-            AccelKind::Brute => names::<BruteParams>(),
-            AccelKind::Bvh => names::<WbvhParams>(),
-            AccelKind::Bvh2 => names::<BvhParams>(),
-            AccelKind::Bih => names::<BihParams>(),
-            AccelKind::KdTree | AccelKind::KdTreeRopes => names::<KdTreeParams>(),
-            AccelKind::Octree | AccelKind::OctreeDescent => names::<OctreeParams>(),
-            AccelKind::Grid => names::<GridParams>(),
-            AccelKind::Apit | AccelKind::ABuffer => names::<ApitParams>(),
-        }
+        (kind.descriptor().presets)()
     }
 
     /// The keys `kind` accepts, `preset` first, each with its one-line doc.
     pub fn keys(kind: AccelKind) -> Vec<crate::ParamKey> {
-        let own = match kind {
-            AccelKind::Brute => BruteParams::KEYS,
-            AccelKind::Bvh => WbvhParams::KEYS,
-            AccelKind::Bvh2 => BvhParams::KEYS,
-            AccelKind::Bih => BihParams::KEYS,
-            AccelKind::KdTree | AccelKind::KdTreeRopes => KdTreeParams::KEYS,
-            AccelKind::Octree | AccelKind::OctreeDescent => OctreeParams::KEYS,
-            AccelKind::Grid => GridParams::KEYS,
-            AccelKind::Apit | AccelKind::ABuffer => ApitParams::KEYS,
-        };
-        std::iter::once(PRESET_KEY).chain(own.iter().copied()).collect()
+        std::iter::once(PRESET_KEY).chain(kind.descriptor().keys.iter().copied()).collect()
     }
 
     /// The params struct of this spec's kind (`WbvhParams` for `bvh`, `BvhParams` for `bvh2`, …), read from its
     /// pairs and validated: what a caller that needs the concrete structure (the GPU
-    /// backend uploads a [`Bvh`]) builds with.
+    /// backend uploads a [`Bvh`](crate::Bvh)) builds with.
     pub fn read<P: StructureParams>(&self) -> Result<P, BuildError> {
         P::from_pairs(&self.params).map_err(|e| e.in_structure(self.kind.name()))
     }
 
-    /// The binary tree ([`Bvh`], `bvh2`) this spec stands for, for a caller that needs
+    /// The binary tree ([`Bvh`](crate::Bvh), `bvh2`) this spec stands for, for a caller that needs
     /// that tree itself (the GPU backend uploads and traverses a binary BVH): `bvh2` as
     /// given; plain `bvh` means `bvh2` with its defaults (the wide tree's nodes are the
     /// CPU's). `bvh` with parameters (they describe the wide tree) and every other
@@ -121,47 +96,14 @@ impl AccelSpec {
     /// Checks every key, value and preset without building anything (for a command line
     /// about to start a long run).
     pub fn check(&self) -> Result<(), BuildError> {
-        match self.kind {
-            AccelKind::Brute => self.read::<BruteParams>().map(drop),
-            AccelKind::Bvh => self.read::<WbvhParams>().map(drop),
-            AccelKind::Bvh2 => self.read::<BvhParams>().map(drop),
-            AccelKind::Bih => self.read::<BihParams>().map(drop),
-            AccelKind::KdTree | AccelKind::KdTreeRopes => self.read::<KdTreeParams>().map(drop),
-            AccelKind::Octree | AccelKind::OctreeDescent => self.read::<OctreeParams>().map(drop),
-            AccelKind::Grid => self.read::<GridParams>().map(drop),
-            AccelKind::Apit | AccelKind::ABuffer => self.read::<ApitParams>().map(drop),
-        }
+        (self.kind.descriptor().check)(self)
     }
 
     /// Builds the structure over `mesh`. `eye` is the camera position: the A-PIT and the
     /// A-buffer centre their cube there (seed 004's observer) unless `observer=center`;
     /// without an eye they centre it on the mesh's box. Other structures ignore it.
     pub fn build(&self, mesh: &TriangleMesh, eye: Option<Vec3>) -> Result<Box<dyn Accel>, BuildError> {
-        Ok(match self.kind {
-            AccelKind::Brute => {
-                self.read::<BruteParams>()?;
-                Box::new(Brute::build(mesh)?)
-            }
-            AccelKind::Bvh => Box::new(Wbvh::build(mesh, &self.read()?)?),
-            AccelKind::Bvh2 => Box::new(Bvh::build(mesh, &self.read()?)?),
-            AccelKind::Bih => Box::new(Bih::build(mesh, &self.read()?)?),
-            AccelKind::KdTree => Box::new(KdTree::build_with(mesh, &self.read()?)?),
-            AccelKind::KdTreeRopes => Box::new(KdTreeRopes::build_with(mesh, &self.read()?)?),
-            AccelKind::Octree => Box::new(Octree::build(mesh, &self.read()?)?),
-            AccelKind::OctreeDescent => Box::new(OctreeDescent::build(mesh, &self.read()?)?),
-            AccelKind::Grid => Box::new(Grid::build(mesh, &self.read()?)?),
-            AccelKind::Apit | AccelKind::ABuffer => {
-                let mut p: ApitParams = self.read()?;
-                if let (crate::apit::Observer::Eye, Some(e)) = (p.observer, eye) {
-                    p = p.with_observer(e);
-                }
-                if self.kind == AccelKind::Apit {
-                    Box::new(Apit::build(mesh, &p)?)
-                } else {
-                    Box::new(ABuffer::build(mesh, &p)?)
-                }
-            }
-        })
+        (self.kind.descriptor().build)(self, mesh, eye)
     }
 }
 

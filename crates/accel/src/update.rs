@@ -123,11 +123,32 @@ pub struct UpdateReport {
     pub cost_ratio: Option<f64>,
 }
 
-/// A structure over the triangles of an animated scene, updated frame by frame.
-pub struct LiveAccel {
-    spec: AccelSpec,
+/// A structure the update policy can drive: the CPU's structures ([`LiveAccel`]) and
+/// the GPU backend's device tree both implement it, so the policy's arithmetic —
+/// [`PolicyState::update`] — is written once.
+pub trait PolicyTarget {
+    /// What a build or refit can fail with.
+    type Error;
+    /// Builds afresh over `mesh`.
+    fn rebuild(&mut self, mesh: &TriangleMesh, eye: Option<Vec3>) -> Result<(), Self::Error>;
+    /// True when the structure can refit its bounds over the same triangles.
+    fn refits(&self) -> bool;
+    /// Recomputes the bounds over `mesh` (same triangles, moved vertices).
+    fn refit(&mut self, mesh: &TriangleMesh, eye: Option<Vec3>) -> Result<(), Self::Error>;
+    /// The normalised SAH cost ([`crate::AccelStats::sah_cost`]) of the structure now, where it
+    /// has one; asked only under `auto` (it may cost a tree walk or a read-back).
+    fn sah_cost(&mut self, mesh: &TriangleMesh) -> Result<Option<f64>, Self::Error>;
+    /// True when the structure depends on the eye, so a moved camera is a change.
+    fn view_dependent(&self) -> bool {
+        false
+    }
+}
+
+/// What the update policy remembers between frames: the triangles a structure was last
+/// built or updated on, and the SAH cost of its last fresh build.
+#[derive(Clone, Debug)]
+pub struct PolicyState {
     policy: UpdatePolicy,
-    accel: Box<dyn Accel>,
     /// The triangles (positions and indices) the structure was last built or updated on.
     positions: Vec<[f32; 3]>,
     indices: Vec<[u32; 3]>,
@@ -138,33 +159,21 @@ pub struct LiveAccel {
     last_ratio: Option<f64>,
 }
 
-impl LiveAccel {
-    /// Builds `spec` over `mesh` (`eye`: the camera, for the view-dependent structures).
-    pub fn build(
-        spec: &AccelSpec,
+impl PolicyState {
+    /// The state right after `target` was built over `mesh`.
+    pub fn after_build<T: PolicyTarget>(
         policy: UpdatePolicy,
+        target: &mut T,
         mesh: &TriangleMesh,
-        eye: Option<Vec3>,
-    ) -> Result<(Self, Duration), BuildError> {
-        let t = Instant::now();
-        let accel = spec.build(mesh, eye)?;
-        let time = t.elapsed();
-        let built_cost = cost(accel.as_ref(), policy);
-        let live = LiveAccel {
-            spec: spec.clone(),
+    ) -> Result<Self, T::Error> {
+        let built_cost = cost(target, mesh, policy)?;
+        Ok(PolicyState {
             policy,
-            accel,
             positions: mesh.positions.clone(),
             indices: mesh.indices.clone(),
             built_cost,
             last_ratio: built_cost.filter(|&b| b > 0.0).map(|_| 1.0),
-        };
-        Ok((live, time))
-    }
-
-    /// The structure, for queries.
-    pub fn accel(&self) -> &dyn Accel {
-        self.accel.as_ref()
+        })
     }
 
     /// The policy.
@@ -177,39 +186,41 @@ impl LiveAccel {
         TriangleMesh::new(self.positions.clone(), self.indices.clone())
     }
 
-    /// How many triangles it holds.
+    /// How many triangles the structure holds.
     pub fn triangle_count(&self) -> usize {
         self.indices.len()
     }
 
-    /// Brings the structure to `mesh`, the next frame of the same scene (same triangles,
-    /// same order), following the policy. A mesh with other indices or another vertex
-    /// count (not the same scene) is rebuilt.
-    pub fn update(&mut self, mesh: &TriangleMesh, eye: Option<Vec3>) -> Result<UpdateReport, BuildError> {
+    /// Brings `target` to `mesh`, the next frame of the same scene (same triangles, same
+    /// order), following the policy. A mesh with other indices or another vertex count
+    /// (not the same scene) is rebuilt.
+    pub fn update<T: PolicyTarget>(
+        &mut self,
+        target: &mut T,
+        mesh: &TriangleMesh,
+        eye: Option<Vec3>,
+    ) -> Result<UpdateReport, T::Error> {
         let same_topology = mesh.indices == self.indices && mesh.positions.len() == self.positions.len();
-        let view_dependent = eye.is_some() && self.spec.kind.is_view_dependent();
+        let view_dependent = eye.is_some() && target.view_dependent();
         if same_topology && mesh.positions == self.positions && !view_dependent {
             return Ok(UpdateReport { action: UpdateAction::Kept, time: Duration::ZERO, cost_ratio: self.last_ratio });
         }
         let t = Instant::now();
-        let refits = self.accel.update_refits() && same_topology;
+        let refits = target.refits() && same_topology;
         let mut action = match (self.policy, refits) {
             (UpdatePolicy::Rebuild, _) | (_, false) => {
-                self.rebuild(mesh, eye)?;
+                self.rebuild(target, mesh, eye)?;
                 UpdateAction::Rebuilt
             }
             (UpdatePolicy::Refit | UpdatePolicy::Auto { .. }, true) => {
-                match eye {
-                    Some(e) => self.accel.update_for_eye(mesh, e)?,
-                    None => self.accel.update(mesh)?,
-                }
+                target.refit(mesh, eye)?;
                 UpdateAction::Refit
             }
         };
-        let mut now = cost(self.accel.as_ref(), self.policy);
+        let mut now = if action == UpdateAction::Rebuilt { self.built_cost } else { cost(target, mesh, self.policy)? };
         if let (UpdatePolicy::Auto { max_cost_ratio }, UpdateAction::Refit) = (self.policy, action) {
             if self.ratio(now).is_some_and(|r| r > max_cost_ratio) {
-                self.rebuild(mesh, eye)?;
+                self.rebuild(target, mesh, eye)?;
                 now = self.built_cost;
                 action = UpdateAction::Rebuilt;
             }
@@ -221,9 +232,14 @@ impl LiveAccel {
         Ok(UpdateReport { action, time, cost_ratio: self.last_ratio })
     }
 
-    fn rebuild(&mut self, mesh: &TriangleMesh, eye: Option<Vec3>) -> Result<(), BuildError> {
-        self.accel = self.spec.build(mesh, eye)?;
-        self.built_cost = cost(self.accel.as_ref(), self.policy);
+    fn rebuild<T: PolicyTarget>(
+        &mut self,
+        target: &mut T,
+        mesh: &TriangleMesh,
+        eye: Option<Vec3>,
+    ) -> Result<(), T::Error> {
+        target.rebuild(mesh, eye)?;
+        self.built_cost = cost(target, mesh, self.policy)?;
         Ok(())
     }
 
@@ -235,11 +251,93 @@ impl LiveAccel {
     }
 }
 
+/// A CPU structure as the policy drives it.
+struct CpuTarget<'a> {
+    spec: &'a AccelSpec,
+    accel: &'a mut Box<dyn Accel>,
+}
+
+impl PolicyTarget for CpuTarget<'_> {
+    type Error = BuildError;
+
+    fn rebuild(&mut self, mesh: &TriangleMesh, eye: Option<Vec3>) -> Result<(), BuildError> {
+        *self.accel = self.spec.build(mesh, eye)?;
+        Ok(())
+    }
+
+    fn refits(&self) -> bool {
+        self.accel.update_refits()
+    }
+
+    fn refit(&mut self, mesh: &TriangleMesh, eye: Option<Vec3>) -> Result<(), BuildError> {
+        match eye {
+            Some(e) => self.accel.update_for_eye(mesh, e),
+            None => self.accel.update(mesh),
+        }
+    }
+
+    fn sah_cost(&mut self, _mesh: &TriangleMesh) -> Result<Option<f64>, BuildError> {
+        Ok(self.accel.sah_cost())
+    }
+
+    fn view_dependent(&self) -> bool {
+        self.spec.kind.is_view_dependent()
+    }
+}
+
+/// A structure over the triangles of an animated scene, updated frame by frame.
+pub struct LiveAccel {
+    spec: AccelSpec,
+    accel: Box<dyn Accel>,
+    state: PolicyState,
+}
+
+impl LiveAccel {
+    /// Builds `spec` over `mesh` (`eye`: the camera, for the view-dependent structures).
+    pub fn build(
+        spec: &AccelSpec,
+        policy: UpdatePolicy,
+        mesh: &TriangleMesh,
+        eye: Option<Vec3>,
+    ) -> Result<(Self, Duration), BuildError> {
+        let t = Instant::now();
+        let mut accel = spec.build(mesh, eye)?;
+        let time = t.elapsed();
+        let state = PolicyState::after_build(policy, &mut CpuTarget { spec, accel: &mut accel }, mesh)?;
+        Ok((LiveAccel { spec: spec.clone(), accel, state }, time))
+    }
+
+    /// The structure, for queries.
+    pub fn accel(&self) -> &dyn Accel {
+        self.accel.as_ref()
+    }
+
+    /// The policy.
+    pub fn policy(&self) -> UpdatePolicy {
+        self.state.policy()
+    }
+
+    /// The triangles the structure was last built or updated on.
+    pub fn mesh(&self) -> TriangleMesh {
+        self.state.mesh()
+    }
+
+    /// How many triangles it holds.
+    pub fn triangle_count(&self) -> usize {
+        self.state.triangle_count()
+    }
+
+    /// Brings the structure to `mesh` under the policy ([`PolicyState::update`]).
+    pub fn update(&mut self, mesh: &TriangleMesh, eye: Option<Vec3>) -> Result<UpdateReport, BuildError> {
+        self.state.update(&mut CpuTarget { spec: &self.spec, accel: &mut self.accel }, mesh, eye)
+    }
+}
+
 /// The structure's normalised SAH cost, computed only where a policy reads it (`auto`)
 /// — for the others it would be a tree walk per frame for a figure nobody asked for.
-fn cost(accel: &dyn Accel, policy: UpdatePolicy) -> Option<f64> {
+fn cost<T: PolicyTarget>(target: &mut T, mesh: &TriangleMesh, policy: UpdatePolicy) -> Result<Option<f64>, T::Error> {
     match policy {
-        UpdatePolicy::Auto { .. } => accel.sah_cost(),
-        _ => None,
+        UpdatePolicy::Auto { .. } => target.sah_cost(mesh),
+        _ => Ok(None),
     }
 }

@@ -170,7 +170,7 @@ fn build_is_identical_with_one_and_two_threads() {
     assert_eq!(a.triangle_ids(), b.triangle_ids());
 }
 
-/// The `high_quality` presets reinsert subtrees (bvh/reinsert.rs): on the 202k-triangle
+/// The `high_quality` presets reinsert subtrees (bvh2/reinsert.rs): on the 202k-triangle
 /// dragon (oracle.rs checks every preset on the bunny only) both structures still validate,
 /// the binary one costs less by the SAH than without the pass, and hit exactly what brute force hits.
 #[test]

@@ -8,7 +8,7 @@
 
 mod support;
 
-use dynray_accel::wbvh::KernelRequest;
+use dynray_accel::bvh::KernelRequest;
 use dynray_accel::{Accel, AccelKind, AccelSpec, BatchQuery, Coherent, Wbvh, WbvhParams};
 use dynray_geom::{Ray, TriangleMesh, Vec3};
 use support::degenerate::{coplanar_sheet, million_to_one_strip, rays_at};
@@ -115,7 +115,7 @@ fn bunny_shadow_rays(mesh: &TriangleMesh, camera_hits: &dyn Accel) -> Vec<Ray> {
 fn occluder_cache_answers_as_brute_force() {
     let mesh = bunny();
     let rays = bunny_shadow_rays(&mesh, build("bvh", &mesh).as_ref());
-    assert!(dynray_accel::wbvh::looks_coherent(&rays), "the batch must take the cached path");
+    assert!(dynray_accel::bvh::looks_coherent(&rays), "the batch must take the cached path");
     let want: Vec<bool> = brute_hits(&mesh, &rays).iter().map(|h| h.is_hit()).collect();
     let lit_after_shadow = want.windows(2).filter(|w| w[0] && !w[1]).count();
     let shadowed = want.iter().filter(|o| **o).count();
@@ -172,7 +172,7 @@ fn each_kernel_is_what_kernel_asks_for() {
     for k in &runnable {
         assert_eq!(kernel_of(build(&format!("bvh:kernel={}", k.name()), &mesh).as_ref()), k.name());
     }
-    if std::env::var_os(dynray_accel::wbvh::FORCE_SCALAR_ENV).is_none() {
+    if std::env::var_os(dynray_accel::bvh::FORCE_SCALAR_ENV).is_none() {
         assert_eq!(kernel_of(build("bvh", &mesh).as_ref()), runnable.last().unwrap().name());
     }
     // A kernel the CPU lacks is refused by name, not silently replaced.

@@ -12,7 +12,7 @@
 
 mod support;
 
-use dynray_accel::wbvh::KernelRequest;
+use dynray_accel::bvh::KernelRequest;
 use dynray_accel::{Accel, BatchQuery, Coherent, Wbvh, WbvhParams};
 use dynray_geom::{Hit, Ray, TriangleMesh, Vec3};
 use rand::{rngs::SmallRng, Rng, SeedableRng};

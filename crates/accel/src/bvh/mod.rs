@@ -1,238 +1,315 @@
-//! The binned-SAH bounding volume hierarchy of seed 003 (Martins 2010, §2.3 and §3.3):
-//! a binary BVH over triangle centroids, split by the surface-area heuristic evaluated on
-//! `k` bins per axis, stored as a flat array of 32-byte nodes.
+//! The wide BVH: the binned-SAH binary tree (optionally built with Embree's block cost)
+//! collapsed into 4- or 8-wide nodes with SoA child boxes, leaves of 4-triangle SoA
+//! blocks, and an f64×4 block test that is bit-identical to the scalar triangle test.
 //!
-//! This is `--accel bvh2`: what the GPU backend uploads and the tree the wide BVH
-//! (crates/accel/src/wbvh, `--accel bvh`, the default) is collapsed from.
+//! Files: [`params`] (presets), [`node`] (node layout and child references), `block.rs`
+//! (leaf blocks and their padding), `collapse.rs` (binary → wide), `kernel.rs` (the
+//! scalar specification and kernel choice), `kernel_avx2.rs` and `kernel_avx512.rs` (the AVX2 and AVX-512 kernels),
+//! `traverse.rs`, `packet.rs`, `packet_avx2.rs` and `packet_traverse.rs` (8-ray packets
+//! for coherent rays), `stream.rs` (batches: two incoherent rays in flight per thread, or
+//! one after the other on one stack, any-hit ones with a last-occluder cache),
+//! `refit.rs`, `validate.rs`.
 //!
-//! Files: [`params`] (presets), [`node`] (encoding), `build.rs` (parallel deterministic
-//! builder: binning and the SAH sweep), `partition.rs` (its serial and parallel
-//! partitions), `prim_ref.rs` (the 32-byte triangle references they move), `assemble.rs` (joining the parallel subtrees), `traverse.rs` (closest and any hit), `closest.rs` (closest-point query),
-//! `refit.rs`, `validate.rs`, `reinsert.rs` (the `high_quality` presets' SAH
-//! optimisation pass).
-//!
-//! Leaf size `M` (the seed found 5): measured with `benches/bvh.rs` on this 2-core machine,
-//! see the comment on [`BvhParams::default`].
+//! This is `--accel bvh`, the default structure and the CPU's fast path. The binary tree
+//! it collapses (crates/accel/src/bvh, `--accel bvh2`) stays what the GPU backend uploads. Figures and what did not pay: docs/structures.md, "The wide BVH".
 
-mod assemble;
-mod build;
-mod closest;
+mod block;
+mod collapse;
+mod kernel;
+#[cfg(target_arch = "x86_64")]
+mod kernel_avx2;
+#[cfg(target_arch = "x86_64")]
+mod kernel_avx512;
 pub mod node;
+mod packet;
+#[cfg(target_arch = "x86_64")]
+mod packet_avx2;
+#[cfg(test)]
+mod packet_tests;
+mod packet_traverse;
 pub mod params;
-mod partition;
-mod presplit;
-mod prim_ref;
 mod refit;
-mod reinsert;
+pub(crate) mod scan;
+mod stream;
 mod traverse;
 mod validate;
 
-pub use closest::{closest_on_triangle, closest_point_brute, ClosestPoint};
-pub use node::BvhNode;
-pub use params::BvhParams;
-pub use validate::{BvhStats, InvalidBvh};
+pub use block::TriBlock;
+pub use kernel::{KernelRequest, FORCE_SCALAR_ENV};
+pub use node::{Node4, Node8, WideNode};
+pub use packet::PACKET;
+pub use params::{HugePages, WbvhParams, HUGE_PAGES_MIN_BYTES};
+pub use stream::{looks_coherent, Interleave, INTERLEAVE_MIN_BYTES};
+pub use validate::InvalidWbvh;
 
-use crate::InvalidStructure;
-use crate::{Accel, AccelStats, BuildError, NoCount, TraversalCounts};
-use dynray_geom::{Hit, Ray, Triangle, TriangleMesh};
+use crate::{Accel, AccelStats, BuildError, Bvh, BvhNode, InvalidStructure, NoCount, TraversalCounts};
+use dynray_geom::{Hit, Ray, TriangleMesh};
+pub(crate) use kernel::KernelChoice;
+use packet_traverse::{AnyHits, ClosestHits, PacketScratch, PacketWalk};
+use stream::AnyBatch;
 
-/// A binned-SAH BVH over one mesh.
+/// A wide BVH over one mesh, 4 or 8 children per node ([`WbvhParams::width`]).
 #[derive(Clone, Debug)]
-pub struct Bvh {
-    /// Root first; children pairs adjacent (see [`BvhNode`]).
-    nodes: Vec<BvhNode>,
-    /// Copies of the mesh's triangles in leaf order, so leaves read contiguous memory.
-    tris: Vec<Triangle>,
-    /// `ids[i]` = the mesh index of `tris[i]`.
-    ids: Vec<u32>,
-    /// The parameters it was built with (SAH constants feed `stats`).
-    params: BvhParams,
-    /// Depth of the deepest leaf (root = 0): picks the traversal stack size.
-    depth: u32,
+pub struct Wbvh {
+    tree: Tree,
+    params: WbvhParams,
+    /// The `K_I` the tree was built with (`params`, or picked by the mesh's size).
+    intersection_cost: f32,
 }
 
-impl Bvh {
-    /// Builds the tree over `mesh`. Errors on invalid parameters, an invalid mesh
-    /// (empty, non-finite, bad index) or more than 2^31 - 1 triangles.
-    pub fn build(mesh: &TriangleMesh, params: &BvhParams) -> Result<Self, BuildError> {
-        let built = build::build(mesh, params)?;
-        let bvh = Self { nodes: built.nodes, tris: built.tris, ids: built.ids, params: *params, depth: built.depth };
-        #[cfg(debug_assertions)]
-        if let Err(e) = bvh.check_invariants(mesh) {
-            panic!("the builder produced an invalid BVH: {e}");
-        }
-        Ok(bvh)
-    }
+/// The tree at its width: one match per query picks the monomorphised traversal.
+#[derive(Clone, Debug)]
+enum Tree {
+    W4(WideTree<Node4>),
+    W8(WideTree<Node8>),
+}
 
-    /// [`Bvh::build`] with leaves costed in blocks of `2^block_shift` triangles (the wide
-    /// BVH's leaf blocks; see `build::build_blocks`): the binary tree the wide BVH collapses.
-    #[cfg(test)]
-    pub(crate) fn build_block_cost(
+/// The arrays of a `W`-wide tree.
+#[derive(Clone, Debug)]
+struct WideTree<N> {
+    /// Root first; a node's interior children come after it, in adjacent slots.
+    nodes: Vec<N>,
+    /// Leaf blocks; a leaf's blocks are contiguous.
+    blocks: Vec<TriBlock>,
+    /// Interior levels on the deepest path (root alone: 1).
+    levels: u32,
+    /// Traversal stack entries this tree can need (`traverse::stack_need`).
+    stack_need: usize,
+    /// The kernel chosen at build time.
+    kernel: KernelChoice,
+    /// Triangles of the mesh it was built over (what a refit's mesh must have).
+    triangles: usize,
+    /// Built over pre-split references: a triangle may sit in several leaves, each leaf's
+    /// box holding only its part (`WbvhParams::presplit`).
+    presplit: bool,
+    /// The arrays were advised for huge pages (`WbvhParams::huge_pages`).
+    huge_pages: bool,
+}
+
+impl<N: WideNode> WideTree<N> {
+    /// Collapses the binary tree `bin` (leaf-order mesh ids `ids`) over `mesh`.
+    fn collapse(
+        bin: &[BvhNode],
+        ids: &[u32],
         mesh: &TriangleMesh,
-        params: &BvhParams,
-        block_shift: u32,
+        kernel: KernelChoice,
+        pages: HugePages,
     ) -> Result<Self, BuildError> {
-        let built = build::build_blocks(mesh, params, block_shift, true, 0.0)?;
-        let bvh = Self { nodes: built.nodes, tris: built.tris, ids: built.ids, params: *params, depth: built.depth };
-        #[cfg(debug_assertions)]
-        if let Err(e) = bvh.check_invariants(mesh) {
-            panic!("the builder produced an invalid BVH: {e}");
+        let triangles = mesh.triangle_count();
+        let c = collapse::collapse::<N>(bin, ids, |_, id| mesh.triangle(id as usize), pages)?;
+        Ok(Self::from(c, kernel, triangles, ids.len() > triangles))
+    }
+
+    /// Collapses a built binary tree, reading its triangle copies.
+    #[cfg(test)]
+    fn build(bvh: &Bvh, kernel: KernelChoice) -> Result<Self, BuildError> {
+        let tris = bvh.triangles();
+        let c = collapse::collapse::<N>(bvh.nodes(), bvh.triangle_ids(), |i, _| tris[i], HugePages::Auto)?;
+        Ok(Self::from(c, kernel, tris.len(), false))
+    }
+
+    fn from(c: collapse::Collapsed<N>, kernel: KernelChoice, triangles: usize, presplit: bool) -> Self {
+        let stack_need = traverse::stack_need(c.levels, N::W);
+        let collapse::Collapsed { nodes, blocks, levels, huge_pages } = c;
+        Self { nodes, blocks, levels, stack_need, kernel, triangles, presplit, huge_pages }
+    }
+}
+
+/// Runs `$body` with `$t` bound to the tree at its width.
+macro_rules! with_tree {
+    ($self:expr, $t:ident => $body:expr) => {
+        match &$self.tree {
+            Tree::W4($t) => $body,
+            Tree::W8($t) => $body,
         }
-        Ok(bvh)
-    }
+    };
+}
 
-    /// The node array and leaf-order mesh ids of [`Bvh::build_block_cost`]'s tree, without
-    /// the leaf-order triangle copies the wide BVH's collapse does not read; with
-    /// `presplit > 0` over pre-split references (a mesh id may then repeat across leaves).
-    pub(crate) fn build_block_cost_nodes(
-        mesh: &TriangleMesh,
-        params: &BvhParams,
-        block_shift: u32,
-        presplit: f32,
-    ) -> Result<(Vec<BvhNode>, Vec<u32>), BuildError> {
-        let built = build::build_blocks(mesh, params, block_shift, false, presplit)?;
-        Ok((built.nodes, built.ids))
-    }
-
-    /// A tree assembled from arrays built elsewhere (the GPU builders of `dynray-gpu`),
-    /// accepted only if it passes every invariant [`Bvh::build`]'s trees do, against `mesh`:
-    /// children pairs adjacent and after their parent, every triangle in exactly one leaf,
-    /// leaf triangles exact copies of the mesh's, depth within the traversal stack.
-    pub fn from_parts(
-        mesh: &TriangleMesh,
-        nodes: Vec<BvhNode>,
-        tris: Vec<Triangle>,
-        ids: Vec<u32>,
-        params: &BvhParams,
-    ) -> Result<Self, InvalidBvh> {
-        let depth = deepest_leaf(&nodes);
-        let bvh = Self { nodes, tris, ids, params: *params, depth };
-        bvh.check_invariants(mesh)?;
-        Ok(bvh)
-    }
-
-    /// The node array, root first.
-    pub fn nodes(&self) -> &[BvhNode] {
-        &self.nodes
-    }
-
-    /// Triangles in leaf order.
-    pub fn triangles(&self) -> &[Triangle] {
-        &self.tris
-    }
-
-    /// Mesh index of each leaf-order triangle.
-    pub fn triangle_ids(&self) -> &[u32] {
-        &self.ids
+impl Wbvh {
+    /// Builds the tree over `mesh`: binary SAH build (block cost unless
+    /// `params.block_cost` is off), then the collapse. Errors on invalid parameters, an
+    /// invalid mesh, or more triangles than the references address.
+    pub fn build(mesh: &TriangleMesh, params: &WbvhParams) -> Result<Self, BuildError> {
+        use crate::StructureParams;
+        params.validate()?;
+        let shift = if params.block_cost { 2 } else { 0 };
+        let bvh = params.bvh_for(mesh.triangle_count());
+        let (bin, ids) = Bvh::build_block_cost_nodes(mesh, &bvh, shift, params.presplit)?;
+        let kernel = KernelChoice::resolve(params.kernel).map_err(|message| BuildError::Param {
+            structure: "bvh",
+            name: "kernel",
+            message: format!("{}: {message}", params.kernel.name()),
+        })?;
+        let tree = match params.width {
+            4 => Tree::W4(WideTree::collapse(&bin, &ids, mesh, kernel, params.huge_pages)?),
+            _ => Tree::W8(WideTree::collapse(&bin, &ids, mesh, kernel, params.huge_pages)?),
+        };
+        let w = Self { tree, params: *params, intersection_cost: bvh.intersection_cost };
+        #[cfg(debug_assertions)]
+        if let Err(e) = w.check_invariants(mesh) {
+            panic!("the builder produced an invalid wide BVH: {e}");
+        }
+        Ok(w)
     }
 
     /// The parameters of the build.
-    pub fn params(&self) -> &BvhParams {
+    pub fn params(&self) -> &WbvhParams {
         &self.params
     }
 
-    /// Depth of the deepest leaf (root = 0): what a traversal stack must hold.
-    pub fn depth(&self) -> u32 {
-        self.depth
+    /// The kernel in use: `"avx512"`, `"avx2"` or `"scalar"`.
+    pub fn kernel(&self) -> &'static str {
+        with_tree!(self, t => t.kernel.name())
     }
-}
 
-/// Depth of the deepest leaf of a node array not yet known to be a tree: bad links and
-/// cycles end the walk early (the validator then reports them).
-fn deepest_leaf(nodes: &[BvhNode]) -> u32 {
-    let (mut deepest, mut visits) = (0, 0);
-    let mut stack = vec![(0usize, 0u32)];
-    while let Some((i, depth)) = stack.pop() {
-        visits += 1;
-        let Some(node) = nodes.get(i).filter(|_| visits <= nodes.len()) else { break };
-        deepest = deepest.max(depth);
-        if !node.is_leaf() {
-            let left = node.index as usize;
-            stack.extend([(left, depth + 1), (left.saturating_add(1), depth + 1)]);
+    /// Children per node.
+    pub fn width(&self) -> usize {
+        match self.tree {
+            Tree::W4(_) => 4,
+            Tree::W8(_) => 8,
         }
     }
-    deepest
-}
 
-impl Accel for Bvh {
-    fn validate(&self, mesh: &TriangleMesh) -> Result<AccelStats, InvalidStructure> {
-        let invalid = |e| InvalidStructure::new(self.name(), e);
-        self.check_invariants(mesh).map_err(invalid)?;
-        Ok(self.stats())
+    /// Closest hits of up to [`PACKET`] rays traced as one packet (packet.rs): `hits[i]`
+    /// is `self.intersect(&rays[i])` bit for bit (triangle, `t`, `u`, `v`). The rays that
+    /// share the first ray's origin travel together; any other ray (another origin, a
+    /// NaN in it, a non-finite origin) is traced alone, and so is a packet of one.
+    /// Panics unless `rays.len() == hits.len() <= PACKET`.
+    pub fn intersect_packet(&self, rays: &[Ray], hits: &mut [Hit]) {
+        assert!(rays.len() <= PACKET, "a packet holds at most {PACKET} rays, not {}", rays.len());
+        self.coherent_in::<ClosestHits>(rays, hits);
     }
 
+    /// Any-hit answers of up to [`PACKET`] rays traced as one packet: `out[i]` is
+    /// `self.occluded(&rays[i])`. As [`Wbvh::intersect_packet`], the rays sharing the
+    /// first ray's origin travel together and any other ray is traced alone.
+    /// Panics unless `rays.len() == out.len() <= PACKET`.
+    pub fn occluded_packet(&self, rays: &[Ray], out: &mut [bool]) {
+        assert!(rays.len() <= PACKET, "a packet holds at most {PACKET} rays, not {}", rays.len());
+        self.coherent_in::<AnyHits>(rays, out);
+    }
+
+    /// A coherent batch through walk `Q` ([`WideTree::coherent`]): packets of [`PACKET`]
+    /// consecutive rays on one scratch, the rays that cannot travel together alone.
+    fn coherent_in<Q: PacketWalk>(&self, rays: &[Ray], out: &mut [Q::Out]) {
+        crate::batch::check_batch_lengths(rays.len(), out.len());
+        with_tree!(self, t => t.coherent::<Q>(rays, out, &mut PacketScratch::new(t.stack_need)))
+    }
+
+    /// Checks every invariant traversal relies on against `mesh` (see validate.rs).
+    pub fn check_invariants(&self, mesh: &TriangleMesh) -> Result<validate::WbvhShape, InvalidWbvh> {
+        with_tree!(self, t => t.check(mesh))
+    }
+}
+
+impl Accel for Wbvh {
     fn name(&self) -> &'static str {
-        "bvh2"
+        "bvh"
     }
 
     fn intersect(&self, ray: &Ray) -> Hit {
-        self.traverse(ray, &mut NoCount)
+        with_tree!(self, t => t.closest(ray, &mut NoCount))
     }
 
     fn occluded(&self, ray: &Ray) -> bool {
-        self.any_hit(ray, &mut NoCount)
+        with_tree!(self, t => t.any(ray, &mut NoCount))
     }
 
+    /// Packets of [`PACKET`] consecutive rays ([`Wbvh::intersect_packet`]): a group whose
+    /// rays share one origin travels together, other rays alone.
+    fn intersect_coherent_into(&self, rays: &[Ray], hits: &mut [Hit]) {
+        self.coherent_in::<ClosestHits>(rays, hits);
+    }
+
+    /// Packets of [`PACKET`] consecutive rays ([`Wbvh::occluded_packet`]), as
+    /// `intersect_coherent_into`.
+    fn occluded_coherent_into(&self, rays: &[Ray], out: &mut [bool]) {
+        self.coherent_in::<AnyHits>(rays, out);
+    }
+
+    fn traces_packets(&self) -> bool {
+        true
+    }
+
+    /// `IN_FLIGHT` (2) rays interleaved per thread (stream.rs) where
+    /// `interleave=` says so (by default, when the batch does not look coherent and the
+    /// tree is at least [`INTERLEAVE_MIN_BYTES`]), else one
+    /// after the other on one stack.
+    fn intersect_stream_into(&self, rays: &[Ray], hits: &mut [Hit]) {
+        let interleaved = self.params.interleave.applies(rays, self.memory_bytes());
+        with_tree!(self, t => t.closest_stream(rays, hits, interleaved))
+    }
+
+    /// As `intersect_stream_into`; batches that look coherent and are walked one ray
+    /// after the other test the last occluder's leaf first where `occluder_cache=on`
+    /// (the default).
+    fn occluded_stream_into(&self, rays: &[Ray], out: &mut [bool]) {
+        let how = if self.params.interleave.applies(rays, self.memory_bytes()) {
+            AnyBatch::Interleaved
+        } else if self.params.occluder_cache && looks_coherent(rays) {
+            AnyBatch::EachCached
+        } else {
+            AnyBatch::Each
+        };
+        with_tree!(self, t => t.any_stream(rays, out, how))
+    }
+
+    /// Counts interior nodes visited and triangle lanes tested (4 per block, padding
+    /// included: the work the kernel does).
     fn intersect_counted(&self, ray: &Ray, counts: &mut TraversalCounts) -> Hit {
-        self.traverse(ray, counts)
+        with_tree!(self, t => t.closest(ray, counts))
     }
 
     fn memory_bytes(&self) -> usize {
-        use std::mem::size_of;
-        self.nodes.len() * size_of::<BvhNode>() + self.tris.len() * size_of::<Triangle>() + self.ids.len() * 4
+        with_tree!(self, t => t.nodes.len() * std::mem::size_of_val(&t.nodes[0]) + t.blocks.len() * std::mem::size_of::<TriBlock>())
     }
 
     fn stats(&self) -> AccelStats {
-        // A tree this type built or refitted is valid; should that ever break, report the
-        // breakage instead of panicking in a listing.
-        let (s, extra) = match self.check_shape() {
+        let (shape, mut extra) = match with_tree!(self, t => t.shape()) {
             Ok(s) => (s, Vec::new()),
-            Err(e) => (BvhStats::default(), vec![("invalid".to_string(), e.to_string())]),
+            Err(e) => (validate::WbvhShape::default(), vec![("invalid".to_string(), e.to_string())]),
         };
-        let mut extra = extra;
-        extra.push(("bins".into(), self.params.bins.to_string()));
-        extra.push(("leaf_size".into(), self.params.leaf_size.to_string()));
+        extra.push(("width".into(), self.width().to_string()));
+        extra.push(("kernel".into(), self.kernel().into()));
+        extra.push(("interior_nodes".into(), shape.interior.to_string()));
+        extra.push(("blocks".into(), shape.blocks.to_string()));
+        extra.push(("filled_lanes".into(), format!("{:.1} %", 100.0 * shape.fill())));
+        extra.push(("block_cost".into(), if self.params.block_cost { "on" } else { "off" }.into()));
+        extra.push(("intersection_cost".into(), self.intersection_cost.to_string()));
+        let huge = with_tree!(self, t => t.huge_pages);
+        extra.push(("huge_pages".into(), if huge { "advised" } else { "off" }.into()));
         AccelStats {
-            nodes: s.nodes,
-            leaves: s.leaves,
-            max_depth: s.max_depth,
-            primitive_refs: self.tris.len(),
-            leaf_sizes: s.leaf_sizes,
-            sah_cost: s.sah_cost,
+            nodes: shape.interior + shape.leaves,
+            leaves: shape.leaves,
+            max_depth: shape.levels,
+            primitive_refs: shape.triangles,
+            leaf_sizes: shape.leaf_sizes.clone(),
+            sah_cost: shape.sah_cost,
             memory_bytes: self.memory_bytes(),
             extra,
         }
     }
 
+    fn validate(&self, mesh: &TriangleMesh) -> Result<AccelStats, InvalidStructure> {
+        self.check_invariants(mesh).map_err(|e| InvalidStructure::new(self.name(), e))?;
+        Ok(self.stats())
+    }
+
+    /// A refit: same tree, boxes and blocks recomputed from the moved vertices (refit.rs).
     fn update(&mut self, mesh: &TriangleMesh) -> Result<(), BuildError> {
-        self.refit(mesh)
+        match &mut self.tree {
+            Tree::W4(t) => t.refit(mesh)?,
+            Tree::W8(t) => t.refit(mesh)?,
+        }
+        #[cfg(debug_assertions)]
+        if let Err(e) = self.check_invariants(mesh) {
+            panic!("refit produced an invalid wide BVH: {e}");
+        }
+        Ok(())
     }
 
     fn update_refits(&self) -> bool {
         true
-    }
-
-    /// The formula of `stats` (validate.rs) in one pass over the node array, without the
-    /// checks and their allocations: what the `auto` update policy reads every frame.
-    fn sah_cost(&self) -> Option<f64> {
-        let root_area = self.nodes.first()?.bounds().surface_area() as f64;
-        if root_area.is_nan() || root_area <= 0.0 {
-            return None;
-        }
-        let (kt, ki) = (self.params.traversal_cost as f64, self.params.intersection_cost as f64);
-        let sah: f64 = self
-            .nodes
-            .iter()
-            .map(|n| {
-                let area = n.bounds().surface_area() as f64;
-                if n.is_leaf() {
-                    ki * n.count as f64 * area
-                } else {
-                    kt * area
-                }
-            })
-            .sum();
-        Some(sah / root_area)
     }
 }
 

@@ -1,88 +1,179 @@
-//! The flat 32-byte BVH node: a box and two `u32`s that say interior or leaf.
+//! The wide node: `W` child boxes as SoA `f32` arrays (one array per axis and side), so one
+//! SIMD register holds one coordinate of every child, and `W` child references.
 
 use bytemuck::{Pod, Zeroable};
 use dynray_geom::{Aabb, Vec3};
 
-/// One node of the flat node array. The root is node 0.
+/// A child reference of a wide node.
 ///
-/// Encoding (seed 003 §3.5, with the flag the seed left open made explicit):
-/// - `count == 0` ⇒ interior: the left child is `nodes[index]`, the right child is
-///   `nodes[index + 1]` (children are always allocated as an adjacent pair);
-/// - `count > 0` ⇒ leaf: triangles `index .. index + count` of the leaf-ordered arrays.
-///
-/// `min`/`index` and `max`/`count` form two 16-byte halves, so the GPU reads a node as two
-/// `vec4`s and the CPU traversal can pick a box plane by offset (`0..3` or `4..7`).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct BvhNode {
-    /// Smallest corner of the box.
-    pub min: [f32; 3],
-    /// Interior: index of the left child. Leaf: first triangle.
-    pub index: u32,
-    /// Largest corner of the box.
-    pub max: [f32; 3],
-    /// 0 for an interior node, else the number of triangles in the leaf.
-    pub count: u32,
+/// Encoding: bit 31 clear ⇒ interior child, the value is its node index; bit 31 set ⇒ leaf
+/// of blocks `first .. first + count` with `first = (ref >> 3) & 0x0FFF_FFFF` and
+/// `count = (ref & 7) + 1` (1..=8 blocks of 4 triangles). [`EMPTY`] fills unused slots
+/// (lanes `count..W` of [`WideNode::count`]); the builder keeps block indices below
+/// `MAX_BLOCKS` so no leaf reads as `EMPTY`.
+pub type ChildRef = u32;
+
+/// Bit 31: the child is a leaf.
+pub const LEAF_BIT: u32 = 1 << 31;
+/// An unused child slot.
+pub const EMPTY: ChildRef = u32::MAX;
+/// Most blocks one leaf holds (3 bits of the reference).
+pub const MAX_LEAF_BLOCKS: u32 = 8;
+/// Blocks addressable by a leaf reference, less one so that no leaf equals [`EMPTY`].
+pub const MAX_BLOCKS: u32 = (1 << 28) - 1;
+
+/// A leaf reference over `count` blocks starting at `first`.
+#[inline]
+pub fn leaf_ref(first: u32, count: u32) -> ChildRef {
+    assert!((1..=MAX_LEAF_BLOCKS).contains(&count), "leaf of {count} blocks; the reference holds 1..=8");
+    assert!(first + count <= MAX_BLOCKS, "block {first} + {count} beyond the {MAX_BLOCKS} a reference addresses");
+    LEAF_BIT | (first << 3) | (count - 1)
 }
 
-// Two 16-byte halves, no padding: one cache line holds a sibling pair and the GPU reads
-// the node unchanged as two vec4 (seed 003 §3.5's "2 × float4").
-const _: () = assert!(std::mem::size_of::<BvhNode>() == 32);
-
-impl BvhNode {
-    /// An interior node whose children are `nodes[left]` and `nodes[left + 1]`.
-    pub fn interior(bounds: &Aabb, left: u32) -> Self {
-        Self { min: bounds.min.to_array(), index: left, max: bounds.max.to_array(), count: 0 }
-    }
-
-    /// A leaf over triangles `first .. first + count` (`count >= 1`).
-    pub fn leaf(bounds: &Aabb, first: u32, count: u32) -> Self {
-        debug_assert!(count > 0, "a leaf holds at least one triangle");
-        Self { min: bounds.min.to_array(), index: first, max: bounds.max.to_array(), count }
-    }
-
-    /// True for a leaf.
-    #[inline(always)]
-    pub fn is_leaf(&self) -> bool {
-        self.count != 0
-    }
-
-    /// The node's box.
-    #[inline]
-    pub fn bounds(&self) -> Aabb {
-        Aabb::new(Vec3::from_array(self.min), Vec3::from_array(self.max))
-    }
-
-    /// Replaces the node's box, keeping its links.
-    #[inline]
-    pub fn set_bounds(&mut self, b: &Aabb) {
-        self.min = b.min.to_array();
-        self.max = b.max.to_array();
-    }
+/// `(first block, block count)` of a leaf reference.
+#[inline(always)]
+pub fn leaf_blocks(r: ChildRef) -> (usize, usize) {
+    (((r >> 3) & 0x0FFF_FFFF) as usize, ((r & 7) + 1) as usize)
 }
+
+/// True for a leaf reference (including [`EMPTY`], which traversal never reaches).
+#[inline(always)]
+pub fn is_leaf(r: ChildRef) -> bool {
+    r & LEAF_BIT != 0
+}
+
+/// What traversal, collapse and validation need of a node of either width.
+pub trait WideNode: Pod + Send + Sync + std::fmt::Debug {
+    /// Children per node.
+    const W: usize;
+    /// A node with no children.
+    fn empty() -> Self;
+    /// Valid children (lanes `0..count`); the rest are [`EMPTY`].
+    fn count(&self) -> usize;
+    /// Child reference of lane `i`.
+    fn child(&self, i: usize) -> ChildRef;
+    /// Box of lane `i`.
+    fn child_box(&self, i: usize) -> Aabb;
+    /// Appends a child (the caller keeps `count < W`).
+    fn push(&mut self, r: ChildRef, b: &Aabb);
+    /// Replaces the box of lane `i` (refit).
+    fn set_box(&mut self, i: usize, b: &Aabb);
+    /// Lower corners along `axis`, one lane per child (`W` values).
+    fn lo(&self, axis: usize) -> &[f32];
+    /// Upper corners along `axis`, one lane per child (`W` values).
+    fn hi(&self, axis: usize) -> &[f32];
+}
+
+macro_rules! wide_node {
+    ($(#[$doc:meta])* $name:ident, $w:literal, $pad:literal, $size:literal) => {
+        $(#[$doc])*
+        #[repr(C, align(64))]
+        #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+        pub struct $name {
+            /// `lo[axis][i]`: smallest coordinate of child `i`'s box (the empty box in
+            /// unused lanes, which the lane mask excludes anyway).
+            pub lo: [[f32; $w]; 3],
+            /// `hi[axis][i]`: largest coordinate of child `i`'s box.
+            pub hi: [[f32; $w]; 3],
+            /// Child references, see [`ChildRef`].
+            pub child: [ChildRef; $w],
+            /// Valid children: lanes `0..count`.
+            pub count: u32,
+            /// Fills the node to a whole number of cache lines.
+            pub pad: [u32; $pad],
+        }
+
+        // Whole cache lines, no implicit padding (Pod): a node starts on a line and its
+        // SoA arrays never straddle more lines than their size needs.
+        const _: () = assert!(std::mem::size_of::<$name>() == $size);
+
+        impl WideNode for $name {
+            const W: usize = $w;
+
+            fn empty() -> Self {
+                Self {
+                    lo: [[f32::INFINITY; $w]; 3],
+                    hi: [[f32::NEG_INFINITY; $w]; 3],
+                    child: [EMPTY; $w],
+                    count: 0,
+                    pad: [0; $pad],
+                }
+            }
+
+            #[inline(always)]
+            fn count(&self) -> usize {
+                self.count as usize
+            }
+
+            #[inline(always)]
+            fn child(&self, i: usize) -> ChildRef {
+                self.child[i]
+            }
+
+            fn child_box(&self, i: usize) -> Aabb {
+                let (l, h) = (&self.lo, &self.hi);
+                Aabb::new(Vec3::new(l[0][i], l[1][i], l[2][i]), Vec3::new(h[0][i], h[1][i], h[2][i]))
+            }
+
+            fn push(&mut self, r: ChildRef, b: &Aabb) {
+                let i = self.count as usize;
+                assert!(i < $w, "a {}-wide node holds {} children", $w, $w);
+                self.child[i] = r;
+                self.count += 1;
+                self.set_box(i, b);
+            }
+
+            fn set_box(&mut self, i: usize, b: &Aabb) {
+                for a in 0..3 {
+                    self.lo[a][i] = b.min[a];
+                    self.hi[a][i] = b.max[a];
+                }
+            }
+
+            #[inline(always)]
+            fn lo(&self, axis: usize) -> &[f32] {
+                &self.lo[axis]
+            }
+
+            #[inline(always)]
+            fn hi(&self, axis: usize) -> &[f32] {
+                &self.hi[axis]
+            }
+        }
+    };
+}
+
+wide_node!(
+    /// A 4-wide node: 2 cache lines (4 × 6 floats of boxes, 4 references, the count).
+    Node4, 4, 3, 128
+);
+wide_node!(
+    /// An 8-wide node: 4 cache lines (8 × 6 floats of boxes, 8 references, the count).
+    Node8, 8, 7, 256
+);
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
-    fn encoding_round_trips() {
-        let b = Aabb::new(Vec3::new(-1.0, 2.0, 3.0), Vec3::new(4.0, 5.0, 6.5));
-        let i = BvhNode::interior(&b, 7);
-        assert!(!i.is_leaf());
-        assert_eq!((i.index, i.bounds()), (7, b));
-        let l = BvhNode::leaf(&b, 11, 3);
-        assert!(l.is_leaf());
-        assert_eq!((l.index, l.count, l.bounds()), (11, 3, b));
+    fn leaf_references_round_trip_and_never_equal_empty() {
+        for (first, count) in [(0, 1), (5, 8), (MAX_BLOCKS - 8, 8), (MAX_BLOCKS - 1, 1)] {
+            let r = leaf_ref(first, count);
+            assert!(is_leaf(r) && r != EMPTY, "{first} {count}");
+            assert_eq!(leaf_blocks(r), (first as usize, count as usize));
+        }
+        assert!(!is_leaf(12345));
     }
 
     #[test]
-    fn byte_layout_is_two_vec4() {
-        let n = BvhNode::leaf(&Aabb::new(Vec3::new(1.0, 2.0, 3.0), Vec3::new(4.0, 5.0, 6.0)), 9, 2);
-        let w: [u32; 8] = bytemuck::cast(n);
-        assert_eq!(f32::from_bits(w[0]), 1.0);
-        assert_eq!(w[3], 9);
-        assert_eq!(f32::from_bits(w[6]), 6.0);
-        assert_eq!(w[7], 2);
+    fn push_fills_lanes_in_order() {
+        let mut n = Node8::empty();
+        let b = Aabb::new(Vec3::new(1.0, 2.0, 3.0), Vec3::new(4.0, 5.0, 6.0));
+        n.push(7, &b);
+        n.push(leaf_ref(3, 2), &b);
+        assert_eq!((n.count(), n.child(0), n.child(2)), (2, 7, EMPTY));
+        assert_eq!(n.child_box(1), b);
+        assert_eq!((n.lo(2)[0], n.hi(0)[1]), (3.0, 4.0));
     }
 }

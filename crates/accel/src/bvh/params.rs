@@ -1,78 +1,192 @@
-//! Build parameters of the BVH: bin count, leaf sizes and SAH cost constants, with presets.
+//! Build parameters of the wide BVH: the width, the binary builder's settings and cost
+//! model, and the kernel, with presets.
 
+use super::kernel::KernelRequest;
+use super::stream::Interleave;
 use crate::structure_params::{out_of_range, unknown_key, value, ParamKey, StructureParams};
-use crate::BuildError;
+use crate::{BuildError, BvhParams};
 
-/// How a [`super::Bvh`] is built. Every field documents its useful range; [`BvhParams::validate`]
-/// rejects values outside it with [`BuildError::Param`].
+/// How a [`super::Wbvh`] is built and traversed. Every field documents its useful range;
+/// [`WbvhParams::validate`] rejects values outside it with [`BuildError::Param`].
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct BvhParams {
-    /// SAH bins per axis (seed 003 §3.2: 16 on the CPU, 32 on the GPU). Range 2..=256.
-    /// More bins find better planes at a linear cost in build time.
-    pub bins: u32,
-    /// The seed's `M`: a node holding fewer than `leaf_size` triangles becomes a leaf without
-    /// trying a split. Range 2..=32. The seed found 5 by experiment.
-    pub leaf_size: u32,
-    /// Hard cap on a leaf: a node with more triangles is always split, even when the SAH
-    /// says a leaf would be cheaper. Keeps leaf loops (and the GPU's) bounded.
-    /// Range `leaf_size - 1`..=1024.
-    pub max_leaf_size: u32,
-    /// `K_T` of Eq. 2.1: cost of one traversal step (two box tests), in the same unit as
-    /// [`BvhParams::intersection_cost`]. Range (0, 1000], finite.
-    pub traversal_cost: f32,
-    /// `K_I` of Eq. 2.1: cost of one ray–triangle test. Range (0, 1000], finite.
-    pub intersection_cost: f32,
-    /// After the build, move subtrees to where they cost least (reinsert.rs, Bittner et
-    /// al. 2013): a lower SAH cost for a longer build. On in `high_quality`.
-    pub reinsert: bool,
+pub struct WbvhParams {
+    /// Children per node: 4 or 8.
+    pub width: u32,
+    /// The binary SAH builder whose tree is collapsed (bins, leaf sizes, `K_T`, `K_I`).
+    /// `max_leaf_size` is limited to 32 here (a leaf reference holds 8 blocks of 4).
+    pub bvh: BvhParams,
+    /// Cost leaves in blocks of 4 triangles (`⌈n/4⌉` tests, as the leaves are tested),
+    /// Embree's block SAH; off costs `n`, as the binary BVH does. Blocks of 8 (`⌈n/8⌉`,
+    /// the AVX-512 kernel's block pair; nodes under 9 triangles made leaves) lost 3–11 %
+    /// on every ray kind on the bunny and the BART kitchen (round 6).
+    pub block_cost: bool,
+    /// The kernel: `Auto` (the fastest the CPU runs) or one named (the tests of each; a
+    /// build fails where the CPU lacks it). `DYNRAY_FORCE_SCALAR=1` sends `Auto` to scalar.
+    pub kernel: KernelRequest,
+    /// Pick `K_I` by the mesh's size instead of `bvh.intersection_cost`:
+    /// [`SMALL_TREE_INTERSECTION_COST`] for meshes under [`SMALL_TREE_TRIANGLES`], 1
+    /// above. Setting the `intersection_cost` key turns it off, `intersection_cost=auto`
+    /// on.
+    ///
+    /// Why: our f64 block test costs more against a box test than Embree's f32 one, so on
+    /// trees that stay in the caches more, smaller leaves pay (single-block leaves: two
+    /// bench runs, 2 threads, bunny +6–9 %, BART kitchen +8–19 % and robots +20–25 % on
+    /// primary and shadow rays); on the 47 MiB dragon the extra nodes are memory traffic
+    /// and the gains turn into losses (docs/structures.md, "The leaf cost by tree size").
+    pub auto_intersection_cost: bool,
+    /// When batches of independent rays keep several in flight per thread (stream.rs):
+    /// `Auto` for batches that do not look coherent on trees of 16 MiB or more. Same
+    /// answers either way.
+    pub interleave: Interleave,
+    /// Any-hit batches that look coherent ([`super::looks_coherent`]) and are walked one
+    /// ray after the other test the leaf that occluded the previous ray first (a
+    /// last-occluder cache, stream.rs): same answers, less work where neighbouring rays
+    /// share an occluder (shadow rays of neighbouring pixels).
+    pub occluder_cache: bool,
+    /// Pre-splitting (bvh2/presplit.rs): about `presplit × n` extra triangle references
+    /// cut from the triangles that fill their boxes worst, before the binned build; 0 is
+    /// off, at most [`MAX_PRESPLIT`]. Same answers; a refit keeps the tree valid with the
+    /// moved triangles' whole boxes.
+    pub presplit: f32,
+    /// When the tree's nodes and blocks are laid out on huge pages (crate::huge_pages):
+    /// `Auto` for trees of [`HUGE_PAGES_MIN_BYTES`] or more. Same tree either way.
+    pub huge_pages: HugePages,
 }
 
-impl BvhParams {
-    /// Quicker rebuilds of animated geometry: 8 bins and leaves below 6 triangles (about
-    /// 0.93× the default's build time on the dragon, 4 % higher SAH cost).
+/// When a tree's arrays are advised for huge pages (`huge_pages=` of [`WbvhParams`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HugePages {
+    /// For trees of at least [`HUGE_PAGES_MIN_BYTES`].
+    Auto,
+    /// Always.
+    On,
+    /// Never.
+    Off,
+}
+
+impl HugePages {
+    /// The values `huge_pages=` takes, in declaration order.
+    pub const NAMES: [&'static str; 3] = ["auto", "on", "off"];
+
+    /// The policy named `NAMES[i]`.
+    pub fn from_index(i: usize) -> Self {
+        [HugePages::Auto, HugePages::On, HugePages::Off][i]
+    }
+
+    /// Whether a tree of `tree_bytes` goes on huge pages under this policy.
+    pub fn applies(self, tree_bytes: usize) -> bool {
+        match self {
+            HugePages::Auto => tree_bytes >= HUGE_PAGES_MIN_BYTES,
+            HugePages::On => true,
+            HugePages::Off => false,
+        }
+    }
+}
+
+/// Trees below this size stay on ordinary pages under `huge_pages=auto`. They fit the
+/// reach of Zen 4's L2 TLB (3,072 pages of 4 KiB, 12 MiB), and there huge pages measured
+/// −1 to −3 % on the BART kitchen (6.5 MiB) and ±1 % on the bunny (4 MiB); on the 47 MiB
+/// dragon, +6–10 % on diffuse and random rays and +25 % on shuffled shadow rays
+/// (docs/structures.md, "Huge pages").
+pub const HUGE_PAGES_MIN_BYTES: usize = 16 << 20;
+
+/// Largest [`WbvhParams::presplit`] budget (4 extra references per triangle).
+pub const MAX_PRESPLIT: f32 = 4.0;
+
+/// Meshes under this many triangles count as small for [`WbvhParams::auto_intersection_cost`]:
+/// their trees (~56 bytes per triangle) stay under the 16 MiB from which the walks wait on
+/// memory ([`super::INTERLEAVE_MIN_BYTES`]).
+pub const SMALL_TREE_TRIANGLES: usize = 300_000;
+
+/// `K_I` of small meshes under [`WbvhParams::auto_intersection_cost`]. 1.5 and 2 measured
+/// the same as 1.25 on the bunny and BART's kitchen and robots (leaves split into single
+/// blocks either way); 1.25 builds fastest.
+pub const SMALL_TREE_INTERSECTION_COST: f32 = 1.25;
+
+impl WbvhParams {
+    /// The binary builder's parameters for a mesh of `triangles` triangles: `bvh`, with
+    /// `K_I` picked by size where [`WbvhParams::auto_intersection_cost`] is on.
+    pub fn bvh_for(&self, triangles: usize) -> BvhParams {
+        let mut b = self.bvh;
+        if self.auto_intersection_cost {
+            b.intersection_cost = if triangles < SMALL_TREE_TRIANGLES { SMALL_TREE_INTERSECTION_COST } else { 1.0 };
+        }
+        b
+    }
+
+    /// Quicker builds: 8 bins (as [`BvhParams::fast`]).
     pub fn fast() -> Self {
-        Self { bins: 8, leaf_size: 6, ..Self::default() }
+        Self { bvh: BvhParams { bins: 8, ..Self::default().bvh }, ..Self::default() }
     }
 
-    /// Slower build, better trees: 32 bins, leaves below 3 triangles, reinsertion
-    /// (figures: docs/structures.md, "Reinsertion").
+    /// Slower builds, better trees: 32 bins and reinsertion on the binary tree before the
+    /// collapse (figures: docs/structures.md, "Reinsertion").
     pub fn high_quality() -> Self {
-        Self { bins: 32, leaf_size: 3, reinsert: true, ..Self::default() }
+        Self { bvh: BvhParams { bins: 32, reinsert: true, ..Self::default().bvh }, ..Self::default() }
     }
 }
 
-impl Default for BvhParams {
-    /// 16 bins (the seed's CPU value), leaves below 4 triangles, `K_T = K_I = 1` (not
-    /// tuned; the stopping rule rarely fires before `leaf_size` does).
-    ///
-    /// `leaf_size` measured on this 2-core Xeon (one thread, CPU time, so the other jobs on
-    /// the machine matter less; 512² primary rays from `Camera::framing`; ±5 % noise):
-    ///
-    /// | M | bunny build ms | bunny Mrays/s | dragon (871k) build ms | dragon Mrays/s | dragon SAH |
-    /// |---|---|---|---|---|---|
-    /// | 3 | 40.6 | 8.16 | 640 | 4.83 | 50.2 |
-    /// | 4 | 37.4 | 8.16 | 580 | 5.07 | 50.5 |
-    /// | 5 | 34.1 | 8.02 | 555 | 4.88 | 51.4 |
-    /// | 6 | 34.2 | 7.87 | 543 | 4.95 | 52.5 |
-    /// | 8 | 30.9 | 7.53 | 525 | 4.88 | 55.3 |
-    ///
-    /// M = 4 traces fastest on both models (the seed's 5 is within noise); larger M buys
-    /// build time with trace time. Bins 8 / 32 at M = 4 on the dragon: 573 / 613 ms,
-    /// 4.83 / 5.00 Mrays/s, SAH 51.7 / 50.0.
+impl Default for WbvhParams {
+    /// Width 8, 16 bins, block cost, nodes of up to 4 triangles become leaves (Embree's
+    /// minimum leaf for 4-triangle blocks), leaves up to 16 triangles (4 blocks), `K_I` by
+    /// the mesh's size. The width and leaf sizes were measured: see docs/structures.md,
+    /// "The wide BVH".
     fn default() -> Self {
-        Self { bins: 16, leaf_size: 4, max_leaf_size: 16, traversal_cost: 1.0, intersection_cost: 1.0, reinsert: false }
+        Self {
+            width: 8,
+            bvh: BvhParams {
+                bins: 16,
+                leaf_size: 5,
+                max_leaf_size: 16,
+                traversal_cost: 1.0,
+                intersection_cost: 1.0,
+                reinsert: false,
+            },
+            block_cost: true,
+            auto_intersection_cost: true,
+            kernel: KernelRequest::Auto,
+            interleave: Interleave::Auto,
+            occluder_cache: true,
+            presplit: 0.0,
+            huge_pages: HugePages::Auto,
+        }
     }
 }
 
-impl StructureParams for BvhParams {
-    const STRUCTURE: &'static str = "bvh2";
+impl StructureParams for WbvhParams {
+    const STRUCTURE: &'static str = "bvh";
     const KEYS: &'static [ParamKey] = &[
+        ParamKey { name: "width", doc: "children per node, 4 or 8 (default 8)" },
         ParamKey { name: "bins", doc: "SAH bins per axis, 2–256 (default 16)" },
-        ParamKey { name: "leaf_size", doc: "nodes under this many triangles become leaves, 2–32 (default 4)" },
-        ParamKey { name: "max_leaf_size", doc: "hard cap on a leaf, leaf_size − 1 to 1024 (default 16)" },
+        ParamKey { name: "leaf_size", doc: "nodes under this many triangles become leaves, 2–32 (default 5)" },
+        ParamKey { name: "max_leaf_size", doc: "hard cap on a leaf, leaf_size − 1 to 32 (default 16)" },
+        ParamKey { name: "block_cost", doc: "SAH leaf cost in 4-triangle blocks, on/off (default on)" },
         ParamKey { name: "traversal_cost", doc: "SAH K_T, (0, 1000] (default 1)" },
-        ParamKey { name: "intersection_cost", doc: "SAH K_I, (0, 1000] (default 1)" },
-        ParamKey { name: "reinsert", doc: "move subtrees to lower the SAH cost after the build, on/off (default off)" },
+        ParamKey {
+            name: "intersection_cost",
+            doc: "SAH K_I, (0, 1000], or auto (default auto: 1.25 under 300,000 triangles, 1 above)",
+        },
+        ParamKey {
+            name: "interleave",
+            doc: "batches of rays keep several in flight per thread: auto (incoherent batches on trees of 16 MiB or more), on, off (default auto)",
+        },
+        ParamKey {
+            name: "occluder_cache",
+            doc: "coherent any-hit batches test the previous ray's occluding leaf first, on/off (default on)",
+        },
+        ParamKey {
+            name: "presplit",
+            doc: "extra triangle references cut from badly boxed triangles before the build, per triangle, 0–4 (default 0: off)",
+        },
+        ParamKey {
+            name: "huge_pages",
+            doc: "lay the tree out on huge pages (Linux THP): auto (trees of 16 MiB or more), on, off (default auto)",
+        },
+        ParamKey {
+            name: "reinsert",
+            doc: "move subtrees to lower the SAH cost before the collapse, on/off (default off)",
+        },
+        ParamKey { name: "kernel", doc: "auto (the fastest present), avx512, avx2 or scalar (default auto)" },
     ];
 
     fn presets() -> Vec<(&'static str, Self)> {
@@ -82,12 +196,32 @@ impl StructureParams for BvhParams {
     fn set(&mut self, key: &str, v: &str) -> Result<(), BuildError> {
         let s = Self::STRUCTURE;
         match key {
-            "bins" => self.bins = value::u32(s, key, v)?,
-            "leaf_size" => self.leaf_size = value::u32(s, key, v)?,
-            "max_leaf_size" => self.max_leaf_size = value::u32(s, key, v)?,
-            "traversal_cost" => self.traversal_cost = value::f32(s, key, v)?,
-            "intersection_cost" => self.intersection_cost = value::f32(s, key, v)?,
-            "reinsert" => self.reinsert = value::bool(s, key, v)?,
+            "width" => self.width = value::u32(s, key, v)?,
+            "bins" => self.bvh.bins = value::u32(s, key, v)?,
+            "leaf_size" => self.bvh.leaf_size = value::u32(s, key, v)?,
+            "max_leaf_size" => self.bvh.max_leaf_size = value::u32(s, key, v)?,
+            "block_cost" => self.block_cost = value::bool(s, key, v)?,
+            "traversal_cost" => self.bvh.traversal_cost = value::f32(s, key, v)?,
+            "intersection_cost" if v == "auto" => self.auto_intersection_cost = true,
+            "intersection_cost" => {
+                self.bvh.intersection_cost = value::f32(s, key, v)?;
+                self.auto_intersection_cost = false;
+            }
+            "reinsert" => self.bvh.reinsert = value::bool(s, key, v)?,
+            "occluder_cache" => self.occluder_cache = value::bool(s, key, v)?,
+            "presplit" => self.presplit = value::f32(s, key, v)?,
+            "interleave" => {
+                let i = value::choice(s, key, v, &Interleave::NAMES, "auto, on or off")?;
+                self.interleave = Interleave::from_index(i);
+            }
+            "huge_pages" => {
+                let i = value::choice(s, key, v, &HugePages::NAMES, "auto, on or off")?;
+                self.huge_pages = HugePages::from_index(i);
+            }
+            "kernel" => {
+                let i = value::choice(s, key, v, &KernelRequest::NAMES, "auto, avx512, avx2 or scalar")?;
+                self.kernel = KernelRequest::from_index(i);
+            }
             _ => return Err(unknown_key::<Self>(key)),
         }
         Ok(())
@@ -96,24 +230,20 @@ impl StructureParams for BvhParams {
     /// Checks every field against its documented range.
     fn validate(&self) -> Result<(), BuildError> {
         let err = out_of_range::<Self>;
-        if !(2..=256).contains(&self.bins) {
-            return err("bins", format!("{} is outside 2..=256", self.bins));
+        if self.width != 4 && self.width != 8 {
+            return err("width", format!("{} is neither 4 nor 8", self.width));
         }
-        if !(2..=32).contains(&self.leaf_size) {
-            return err("leaf_size", format!("{} is outside 2..=32", self.leaf_size));
+        if self.bvh.max_leaf_size > 32 {
+            return err("max_leaf_size", format!("{} is above 32 (8 blocks of 4)", self.bvh.max_leaf_size));
         }
-        if self.max_leaf_size + 1 < self.leaf_size || self.max_leaf_size > 1024 {
-            return err(
-                "max_leaf_size",
-                format!("{} is outside {}..=1024 (leaf_size - 1 up to 1024)", self.max_leaf_size, self.leaf_size - 1),
-            );
+        if !(0.0..=MAX_PRESPLIT).contains(&self.presplit) {
+            return err("presplit", format!("{} is outside 0–{MAX_PRESPLIT}", self.presplit));
         }
-        for (name, v) in [("traversal_cost", self.traversal_cost), ("intersection_cost", self.intersection_cost)] {
-            if !(v > 0.0 && v <= 1000.0) {
-                return err(name, format!("{v} is outside (0, 1000]"));
-            }
-        }
-        Ok(())
+        // The binary builder's own ranges (bins, leaf_size, costs), named as ours.
+        self.bvh.validate().map_err(|e| match e {
+            BuildError::Param { name, message, .. } => BuildError::Param { structure: Self::STRUCTURE, name, message },
+            other => other,
+        })
     }
 }
 
@@ -121,28 +251,77 @@ impl StructureParams for BvhParams {
 mod tests {
     use super::*;
 
+    /// `key=value` pairs as `from_pairs` takes them.
+    fn pairs(s: &[(&str, &str)]) -> Vec<(String, String)> {
+        s.iter().map(|(k, v)| (k.to_string(), v.to_string())).collect()
+    }
+
     #[test]
     fn presets_are_valid() {
-        for (_, p) in BvhParams::presets() {
+        for (_, p) in WbvhParams::presets() {
             p.validate().unwrap();
         }
     }
 
     #[test]
     fn out_of_range_fields_are_named() {
+        let d = WbvhParams::default();
         let bad = [
-            (BvhParams { bins: 1, ..Default::default() }, "bins"),
-            (BvhParams { bins: 1000, ..Default::default() }, "bins"),
-            (BvhParams { leaf_size: 1, ..Default::default() }, "leaf_size"),
-            (BvhParams { max_leaf_size: 2, leaf_size: 8, ..Default::default() }, "max_leaf_size"),
-            (BvhParams { traversal_cost: f32::NAN, ..Default::default() }, "traversal_cost"),
-            (BvhParams { intersection_cost: 0.0, ..Default::default() }, "intersection_cost"),
+            (WbvhParams { width: 2, ..d }, "width"),
+            (WbvhParams { width: 16, ..d }, "width"),
+            (WbvhParams { bvh: BvhParams { max_leaf_size: 33, ..d.bvh }, ..d }, "max_leaf_size"),
+            (WbvhParams { bvh: BvhParams { bins: 1, ..d.bvh }, ..d }, "bins"),
+            (WbvhParams { bvh: BvhParams { leaf_size: 40, ..d.bvh }, ..d }, "leaf_size"),
+            (WbvhParams { presplit: -0.5, ..d }, "presplit"),
+            (WbvhParams { presplit: f32::NAN, ..d }, "presplit"),
+            (WbvhParams { presplit: 5.0, ..d }, "presplit"),
         ];
         for (p, want) in bad {
             match p.validate() {
-                Err(BuildError::Param { name, .. }) => assert_eq!(name, want, "{p:?}"),
+                Err(BuildError::Param { structure, name, .. }) => {
+                    assert_eq!((structure, name), ("bvh", want), "{p:?}")
+                }
                 other => panic!("{p:?}: expected a {want} error, got {other:?}"),
             }
         }
+    }
+
+    #[test]
+    fn keys_set_their_fields() {
+        let p = WbvhParams::from_pairs(&pairs(&[("width", "4"), ("kernel", "scalar"), ("block_cost", "off")])).unwrap();
+        assert_eq!((p.width, p.kernel, p.block_cost), (4, KernelRequest::Scalar, false));
+        for (name, k) in
+            [("avx512", KernelRequest::Avx512), ("avx2", KernelRequest::Avx2), ("auto", KernelRequest::Auto)]
+        {
+            assert_eq!(WbvhParams::from_pairs(&pairs(&[("kernel", name)])).unwrap().kernel, k);
+            assert_eq!(k.name(), name);
+        }
+        assert!(WbvhParams::from_pairs(&pairs(&[("kernel", "sse")])).is_err());
+    }
+
+    #[test]
+    fn intersection_cost_is_picked_by_size_unless_set() {
+        let d = WbvhParams::default();
+        assert_eq!(d.bvh_for(SMALL_TREE_TRIANGLES - 1).intersection_cost, SMALL_TREE_INTERSECTION_COST);
+        assert_eq!(d.bvh_for(SMALL_TREE_TRIANGLES).intersection_cost, 1.0);
+        let set = WbvhParams::from_pairs(&pairs(&[("intersection_cost", "2")])).unwrap();
+        assert!(!set.auto_intersection_cost);
+        assert_eq!((set.bvh_for(10).intersection_cost, set.bvh_for(1 << 20).intersection_cost), (2.0, 2.0));
+        let auto = WbvhParams::from_pairs(&pairs(&[("intersection_cost", "2"), ("intersection_cost", "auto")]));
+        assert_eq!(auto.unwrap().bvh_for(10).intersection_cost, SMALL_TREE_INTERSECTION_COST);
+        assert!(WbvhParams::from_pairs(&pairs(&[("intersection_cost", "cheap")])).is_err());
+    }
+
+    #[test]
+    fn huge_pages_key_and_threshold() {
+        assert_eq!(WbvhParams::default().huge_pages, HugePages::Auto);
+        for (i, name) in HugePages::NAMES.iter().enumerate() {
+            let p = WbvhParams::from_pairs(&pairs(&[("huge_pages", name)])).unwrap();
+            assert_eq!(p.huge_pages, HugePages::from_index(i));
+        }
+        let e = WbvhParams::from_pairs(&pairs(&[("huge_pages", "sometimes")])).unwrap_err().to_string();
+        assert!(e.contains("huge_pages") && e.contains("sometimes"), "{e}");
+        assert!(HugePages::Auto.applies(HUGE_PAGES_MIN_BYTES) && !HugePages::Auto.applies(HUGE_PAGES_MIN_BYTES - 1));
+        assert!(HugePages::On.applies(0) && !HugePages::Off.applies(usize::MAX));
     }
 }

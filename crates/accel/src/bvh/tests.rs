@@ -1,136 +1,235 @@
-//! Unit tests of the BVH module: builds on tiny meshes, and `validate` catching corruption.
+//! The validator catches what traversal relies on: each test breaks one invariant of a
+//! built tree and expects `check` to name it.
 
-use super::*;
-use dynray_geom::Vec3;
+use super::block::{TriBlock, PAD_ID};
+use super::kernel::KernelChoice;
+use super::node::{is_leaf, leaf_blocks, Node4, Node8, WideNode};
+use super::{Wbvh, WbvhParams, WideTree};
+use crate::Bvh;
+use dynray_geom::TriangleMesh;
 
-/// A strip of `n` unit triangles along x.
-fn strip(n: usize) -> TriangleMesh {
+/// A 30 × 30 grid of triangles (1,800): several levels at both widths.
+fn grid() -> TriangleMesh {
+    grid_of(30)
+}
+
+/// An `n` × `n` grid of quads, 2n² triangles on a bumpy sheet.
+fn grid_of(n: u32) -> TriangleMesh {
     let mut pos = Vec::new();
     let mut idx = Vec::new();
     for i in 0..n {
-        let x = i as f32 * 2.0;
-        let b = pos.len() as u32;
-        pos.extend([[x, 0.0, 0.0], [x + 1.0, 0.0, 0.0], [x, 1.0, (i % 3) as f32]]);
-        idx.push([b, b + 1, b + 2]);
+        for j in 0..n {
+            let (x, y, z) = (i as f32, j as f32, ((i * 7 + j * 3) % 5) as f32 * 0.3);
+            let b = pos.len() as u32;
+            pos.extend([[x, y, z], [x + 0.9, y, z], [x, y + 0.9, z + 0.2], [x + 0.9, y + 0.9, z]]);
+            idx.extend([[b, b + 1, b + 2], [b + 1, b + 3, b + 2]]);
+        }
     }
     TriangleMesh::new(pos, idx)
 }
 
-#[test]
-fn single_triangle_is_one_leaf() {
-    let m = strip(1);
-    let bvh = Bvh::build(&m, &BvhParams::default()).unwrap();
-    assert_eq!(bvh.nodes().len(), 1);
-    assert!(bvh.nodes()[0].is_leaf());
-    let s = bvh.validate(&m).unwrap();
-    assert_eq!((s.nodes, s.leaves, s.max_depth), (1, 1, 0));
-    let hit = bvh.intersect(&Ray::new(Vec3::new(0.25, 0.25, 5.0), -Vec3::Z));
-    assert_eq!(hit.prim, 0);
+fn tree<N: WideNode>(mesh: &TriangleMesh) -> WideTree<N> {
+    let bvh = Bvh::build_block_cost(mesh, &WbvhParams::default().bvh, 2).unwrap();
+    WideTree::<N>::build(&bvh, KernelChoice::Scalar).unwrap()
 }
 
-#[test]
-fn strip_builds_a_valid_tree_with_small_leaves() {
-    let m = strip(1000);
-    let p = BvhParams::default();
-    let bvh = Bvh::build(&m, &p).unwrap();
-    let s = bvh.validate(&m).unwrap();
-    assert_eq!(s.leaf_sizes.iter().enumerate().map(|(k, c)| k * c).sum::<usize>(), 1000);
-    assert!(s.leaf_sizes.len() <= p.max_leaf_size as usize + 1, "{:?}", s.leaf_sizes);
-    assert!(s.max_depth < 40, "depth {}", s.max_depth);
-    assert!(s.sah_cost.unwrap() > 0.0);
-    // Every triangle is found by a ray straight down onto it.
-    for i in 0..1000 {
-        let x = i as f32 * 2.0 + 0.25;
-        let hit = bvh.intersect(&Ray::new(Vec3::new(x, 0.25, 10.0), -Vec3::Z));
-        assert_eq!(hit.prim, i as u32, "triangle {i}");
+fn expect_broken<N: WideNode>(t: &WideTree<N>, mesh: &TriangleMesh, what: &str) {
+    match t.check(mesh) {
+        Ok(_) => panic!("{what}: the validator accepted a broken {}-wide tree", N::W),
+        Err(e) => assert!(e.to_string().contains(what), "expected `{what}`, got: {e}"),
+    }
+}
+
+fn breaks_are_caught<N: WideNode>() {
+    let mesh = grid();
+    let t = tree::<N>(&mesh);
+    t.check(&mesh).unwrap();
+    assert!(t.levels >= 3, "{} levels", t.levels);
+
+    // A child box that no longer contains its subtree.
+    let mut b = t.clone();
+    let (i, lane) = (0, 0);
+    let mut bx = b.nodes[i].child_box(lane);
+    bx.max = bx.min + (bx.max - bx.min) * 0.5;
+    b.nodes[i].set_box(lane, &bx);
+    expect_broken(&b, &mesh, if is_leaf(b.nodes[i].child(lane)) { "sticks out" } else { "outside" });
+
+    // A triangle twice (and another never).
+    let mut b = t.clone();
+    b.blocks[1].ids[0] = b.blocks[0].ids[0];
+    expect_broken(&b, &mesh, "repeated");
+
+    // A vertex moved behind the tree's back.
+    let mut b = t.clone();
+    for a in 0..3 {
+        b.blocks[0].v[1][a][0] = b.blocks[0].v[0][a][0];
+    }
+    expect_broken(&b, &mesh, "not a copy");
+
+    // A padding lane that could hit: the SIMD kernel relies on NaN padding.
+    let mut b = t.clone();
+    let padded = b.blocks.iter().position(|x| x.ids.contains(&PAD_ID)).expect("a padded block");
+    let lane = b.blocks[padded].ids.iter().position(|&id| id == PAD_ID).unwrap();
+    b.blocks[padded].v[0][0][lane] = 0.0;
+    b.blocks[padded].v[0][1][lane] = 0.0;
+    b.blocks[padded].v[0][2][lane] = 0.0;
+    expect_broken(&b, &mesh, "not NaN");
+
+    // A recorded depth that is not the tree's (the stack would be sized wrongly).
+    let mut b = t.clone();
+    b.levels -= 1;
+    expect_broken(&b, &mesh, "levels");
+
+    // An interior child pointing back at the root (a cycle).
+    let mut b = t.clone();
+    let (n, lane) = b
+        .nodes
+        .iter()
+        .enumerate()
+        .find_map(|(n, node)| (0..node.count()).find(|&k| !is_leaf(node.child(k))).map(|k| (n, k)))
+        .unwrap();
+    let node = b.nodes[n];
+    let mut fresh = N::empty();
+    for k in 0..node.count() {
+        fresh.push(if k == lane { 0 } else { node.child(k) }, &node.child_box(k));
+    }
+    b.nodes[n] = fresh;
+    expect_broken(&b, &mesh, "out of order");
+
+    // A block in no leaf.
+    let mut b = t.clone();
+    b.blocks.push(TriBlock::PAD);
+    expect_broken(&b, &mesh, "in no leaf");
+}
+
+/// The grid with two large slanted triangles across it, built pre-split.
+fn presplit_tree() -> (TriangleMesh, WideTree<Node8>) {
+    let mut mesh = grid();
+    let b = mesh.positions.len() as u32;
+    mesh.positions.extend([[0.0, 0.0, -2.0], [30.0, 3.0, 3.0], [2.0, 30.0, 1.0], [30.0, 30.0, -1.0]]);
+    mesh.indices.extend([[b, b + 1, b + 2], [b + 1, b + 3, b + 2]]);
+    let w = Wbvh::build(&mesh, &WbvhParams { presplit: 0.05, ..WbvhParams::default() }).unwrap();
+    match w.tree {
+        super::Tree::W8(t) => (mesh, t),
+        super::Tree::W4(_) => unreachable!("width 8 asked for"),
     }
 }
 
 #[test]
-fn invalid_params_are_rejected() {
-    let e = Bvh::build(&strip(4), &BvhParams { bins: 0, ..Default::default() }).unwrap_err();
-    assert!(matches!(e, BuildError::Param { name: "bins", .. }), "{e}");
-}
+fn the_validator_catches_broken_presplit_trees() {
+    let (mesh, t) = presplit_tree();
+    let shape = t.check(&mesh).unwrap();
+    let big = (mesh.triangle_count() - 2) as u32;
+    let leaves_of = |t: &WideTree<Node8>, id: u32| {
+        let mut v = Vec::new();
+        for (n, node) in t.nodes.iter().enumerate() {
+            for k in 0..node.count() {
+                let c = node.child(k);
+                if is_leaf(c) {
+                    let (first, count) = leaf_blocks(c);
+                    if t.blocks[first..first + count].iter().any(|b| b.ids.contains(&id)) {
+                        v.push((n, k));
+                    }
+                }
+            }
+        }
+        v
+    };
+    assert!(t.presplit && shape.triangles > mesh.triangle_count(), "{shape:?}");
+    assert!(leaves_of(&t, big).len() > 1, "the big triangle was not split");
 
-fn built(n: usize) -> (TriangleMesh, Bvh) {
-    let m = strip(n);
-    let b = Bvh::build(&m, &BvhParams::default()).unwrap();
-    (m, b)
-}
+    // One part of a triangle twice in a leaf.
+    let mut b = t.clone();
+    let (i, lane) = b
+        .blocks
+        .iter()
+        .enumerate()
+        .find_map(|(i, x)| (x.real_lanes() >= 2).then_some((i, 1)))
+        .expect("a block of two triangles");
+    let first = b.blocks[i].triangle(0);
+    let id0 = b.blocks[i].ids[0];
+    b.blocks[i].set(lane, &first, id0);
+    expect_broken(&b, &mesh, "repeated");
 
-#[test]
-fn validate_catches_a_child_outside_its_parent() {
-    let (m, mut b) = built(64);
-    let l = b.nodes[0].index as usize;
-    b.nodes[l].max[1] += 10.0;
-    let e = b.check_invariants(&m).unwrap_err();
-    assert!(e.what.contains("outside"), "{e}");
-}
-
-#[test]
-fn validate_catches_a_triangle_in_two_leaves() {
-    let (m, mut b) = built(64);
-    let leaves: Vec<usize> = (0..b.nodes.len()).filter(|&i| b.nodes[i].is_leaf()).collect();
-    let first = b.nodes[leaves[0]].index;
-    b.nodes[leaves[1]].index = first;
-    // The stolen leaf's box may no longer hold its triangles; either error is a catch,
-    // but the double reference must be what is reported when boxes are widened.
-    b.nodes[leaves[1]].min = [-1e9; 3];
-    b.nodes[leaves[1]].max = [1e9; 3];
-    let e = b.check_invariants(&m).unwrap_err();
-    assert!(e.what.contains("two leaves") || e.what.contains("outside"), "{e}");
-}
-
-#[test]
-fn validate_catches_a_bad_child_index_and_a_wrong_copy() {
-    let (m, mut b) = built(64);
-    let mut c = b.clone();
-    c.nodes[0].index = c.nodes.len() as u32;
-    assert!(c.check_invariants(&m).unwrap_err().what.contains("out of range"));
-    b.tris[3].p0.x += 0.5;
-    let e = b.check_invariants(&m).unwrap_err();
-    assert!(e.what.contains("not a copy") || e.what.contains("sticks out"), "{e}");
-}
-
-#[test]
-fn validate_catches_repeated_ids() {
-    let (m, mut b) = built(16);
-    b.ids[1] = b.ids[0];
-    assert!(b.check_invariants(&m).unwrap_err().what.contains("repeated"));
-}
-
-#[test]
-fn refit_rejects_a_different_triangle_count() {
-    let (_, mut b) = built(16);
-    assert!(matches!(b.refit(&strip(17)), Err(BuildError::TopologyChanged { built: 16, given: 17 })));
-}
-
-#[test]
-fn the_per_frame_sah_cost_is_the_one_stats_reports() {
-    // `Accel::sah_cost` sums the node array in order, `stats` walks the tree: the same
-    // terms, so equal up to the order of a floating-point sum.
-    let m = strip(1000);
-    let mut bvh = Bvh::build(&m, &BvhParams::default()).unwrap();
-    let mut moved = m.clone();
-    for (i, p) in moved.positions.iter_mut().enumerate() {
-        p[1] += (i % 7) as f32 * 0.3;
+    // The leaves of the big triangle shrunk away from one of its corners.
+    let mut b = t.clone();
+    for (n, k) in leaves_of(&b, big) {
+        let mut bx = b.nodes[n].child_box(k);
+        bx.max -= (bx.max - bx.min) * 0.01;
+        b.nodes[n].set_box(k, &bx);
     }
-    for mesh in [&m, &moved] {
-        bvh.refit(mesh).unwrap();
-        let (fast, full) = (Accel::sah_cost(&bvh).unwrap(), bvh.stats().sah_cost.unwrap());
-        assert!((fast - full).abs() <= 1e-9 * full, "{fast} vs {full}");
+    expect_broken(&b, &mesh, "do not cover");
+
+    // A refit keeps it valid.
+    let mut b = t.clone();
+    b.refit(&mesh).unwrap();
+    b.check(&mesh).unwrap();
+}
+
+#[test]
+fn the_validator_catches_broken_4_wide_trees() {
+    breaks_are_caught::<Node4>();
+}
+
+#[test]
+fn the_validator_catches_broken_8_wide_trees() {
+    breaks_are_caught::<Node8>();
+}
+
+#[test]
+fn refit_on_the_same_mesh_reproduces_the_built_tree_bit_for_bit() {
+    let mesh = grid();
+    for width in [4, 8] {
+        let p = WbvhParams { width, ..WbvhParams::default() };
+        let built = Wbvh::build(&mesh, &p).unwrap();
+        let mut moved = mesh.clone();
+        for q in &mut moved.positions {
+            q[2] += q[0] * 0.1;
+        }
+        let mut w = built.clone();
+        crate::Accel::update(&mut w, &moved).unwrap();
+        crate::Accel::update(&mut w, &mesh).unwrap();
+        assert!(bytes(&w) == bytes(&built), "width {width}");
+    }
+}
+
+/// The node and block arrays as bytes.
+fn bytes(w: &Wbvh) -> (Vec<u8>, Vec<u8>) {
+    match &w.tree {
+        super::Tree::W4(t) => {
+            (bytemuck::cast_slice::<_, u8>(&t.nodes).to_vec(), bytemuck::cast_slice::<_, u8>(&t.blocks).to_vec())
+        }
+        super::Tree::W8(t) => {
+            (bytemuck::cast_slice::<_, u8>(&t.nodes).to_vec(), bytemuck::cast_slice::<_, u8>(&t.blocks).to_vec())
+        }
     }
 }
 
 #[test]
-fn from_parts_accepts_a_built_tree_and_rejects_a_broken_one() {
-    let (m, bvh) = built(300);
-    let p = *bvh.params();
-    let again =
-        Bvh::from_parts(&m, bvh.nodes().to_vec(), bvh.triangles().to_vec(), bvh.triangle_ids().to_vec(), &p).unwrap();
-    assert_eq!((again.nodes(), again.depth()), (bvh.nodes(), bvh.depth()));
-    let mut ids = bvh.triangle_ids().to_vec();
-    ids.swap(0, 1);
-    let err = Bvh::from_parts(&m, bvh.nodes().to_vec(), bvh.triangles().to_vec(), ids, &p).unwrap_err();
-    assert!(err.what.contains("not a copy"), "{err}");
+fn same_tree_on_one_and_two_threads() {
+    // 80,000 triangles: above the builder's parallel binning (65,536) and subtree (4,096)
+    // thresholds and the collapse's parallel block fill (1,024 blocks per task).
+    let mesh = grid_of(200);
+    for width in [4, 8] {
+        let p = WbvhParams { width, ..WbvhParams::default() };
+        let build = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| Wbvh::build(&mesh, &p).unwrap())
+        };
+        assert!(bytes(&build(1)) == bytes(&build(2)), "width {width}");
+    }
+}
+
+#[test]
+fn leaves_hold_at_most_the_leaf_cap_and_blocks_are_full_but_the_last() {
+    let mesh = grid();
+    let t = tree::<Node8>(&mesh);
+    for node in &t.nodes {
+        for k in (0..node.count()).filter(|&k| is_leaf(node.child(k))) {
+            let (first, count) = leaf_blocks(node.child(k));
+            let lanes: Vec<usize> = t.blocks[first..first + count].iter().map(|b| b.real_lanes()).collect();
+            assert!(lanes[..count - 1].iter().all(|&l| l == 4), "{lanes:?}");
+            assert!(lanes.iter().sum::<usize>() <= WbvhParams::default().bvh.max_leaf_size as usize);
+        }
+    }
 }

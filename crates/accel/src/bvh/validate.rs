@@ -1,12 +1,15 @@
-//! Self-check of a built or refitted BVH, which also measures its shape.
+//! Self-check of a built or refitted wide BVH, which also measures its shape.
 
-use super::{traverse::STACK_CAPACITY, Bvh};
-use dynray_geom::TriangleMesh;
+use super::block::{TriBlock, LANES};
+use super::node::{is_leaf, leaf_blocks, WideNode, EMPTY};
+use super::traverse::{stack_need, STACK_CAPACITY};
+use super::WideTree;
+use dynray_geom::{Aabb, TriangleMesh};
 
 /// A broken invariant, with the node where it was found.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("BVH invariant broken at node {node}: {what}")]
-pub struct InvalidBvh {
+#[error("wide BVH invariant broken at node {node}: {what}")]
+pub struct InvalidWbvh {
     /// Index of the offending node (0 for array-level problems).
     pub node: u32,
     /// What is wrong, with the values involved.
@@ -15,125 +18,217 @@ pub struct InvalidBvh {
 
 /// Shape and quality of a valid tree.
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct BvhStats {
-    /// All nodes, leaves included.
-    pub nodes: usize,
-    /// Leaves.
+pub struct WbvhShape {
+    /// Interior (wide) nodes.
+    pub interior: usize,
+    /// Leaves (runs of blocks).
     pub leaves: usize,
-    /// Depth of the deepest leaf (root = 0).
-    pub max_depth: u32,
-    /// As [`crate::AccelStats::leaf_sizes`] (built by [`crate::LeafSizes`]).
+    /// Blocks.
+    pub blocks: usize,
+    /// Triangles (real lanes).
+    pub triangles: usize,
+    /// Interior levels on the deepest path: the depth of the deepest leaf (root = 0).
+    pub levels: u32,
+    /// Triangles per leaf, as [`crate::AccelStats::leaf_sizes`].
     pub leaf_sizes: Vec<usize>,
-    /// SAH cost (Eq. 2.1 summed over the tree with the build's `K_T`, `K_I`), relative to
-    /// the root's area; `None` when the root box has no area.
+    /// SAH cost relative to the root's box: `K_T = 1` per interior node, `K_I = 1` per
+    /// block of a leaf (what the kernel tests).
     pub sah_cost: Option<f64>,
 }
 
-impl Bvh {
-    /// Checks every structural invariant (children inside parents and after them in the
-    /// array, every node reached once, every leaf-order triangle referenced exactly once,
-    /// ids a permutation, indices in range, depth within the traversal stack) and that the
-    /// leaf triangles are exact copies of `mesh`'s. Returns the tree's shape.
-    pub(crate) fn check_invariants(&self, mesh: &TriangleMesh) -> Result<BvhStats, InvalidBvh> {
-        let stats = self.check_shape()?;
-        if mesh.triangle_count() != self.tris.len() {
-            return Err(bad(0, format!("mesh has {} triangles, tree {}", mesh.triangle_count(), self.tris.len())));
+impl WbvhShape {
+    /// Share of block lanes that hold a triangle (the rest are padding).
+    pub fn fill(&self) -> f64 {
+        if self.blocks == 0 {
+            0.0
+        } else {
+            self.triangles as f64 / (LANES * self.blocks) as f64
         }
-        for (i, (t, &id)) in self.tris.iter().zip(&self.ids).enumerate() {
-            if *t != mesh.triangle(id as usize) {
-                return Err(bad(0, format!("leaf triangle {i} is not a copy of mesh triangle {id}")));
-            }
-        }
-        Ok(stats)
-    }
-
-    /// The invariants that need no mesh; also what [`crate::Accel::stats`] reports.
-    pub(super) fn check_shape(&self) -> Result<BvhStats, InvalidBvh> {
-        let (nodes, n) = (&self.nodes, self.tris.len());
-        if nodes.is_empty() || n == 0 || self.ids.len() != n {
-            return Err(bad(0, format!("{} nodes, {} triangles, {} ids", nodes.len(), n, self.ids.len())));
-        }
-        let mut seen_id = vec![false; n];
-        for &id in &self.ids {
-            if id as usize >= n || std::mem::replace(&mut seen_id[id as usize], true) {
-                return Err(bad(0, format!("triangle id {id} out of range or repeated")));
-            }
-        }
-        let root_area = nodes[0].bounds().surface_area() as f64;
-        let (kt, ki) = (self.params.traversal_cost as f64, self.params.intersection_cost as f64);
-        let mut sah = 0.0f64;
-        let mut stats = BvhStats::default();
-        let mut sizes = crate::LeafSizes::new();
-        let mut covered = vec![false; n];
-        let mut reached = vec![false; nodes.len()];
-        reached[0] = true;
-        let mut stack = vec![(0usize, 0u32)];
-        while let Some((i, depth)) = stack.pop() {
-            let node = &nodes[i];
-            let b = node.bounds();
-            if b.is_empty() {
-                return Err(bad(i, format!("empty box {b:?}")));
-            }
-            stats.nodes += 1;
-            stats.max_depth = stats.max_depth.max(depth);
-            let area = b.surface_area() as f64;
-            if node.is_leaf() {
-                let (first, count) = (node.index as usize, node.count as usize);
-                if first + count > n {
-                    return Err(bad(i, format!("leaf range {first}..{} beyond {n} triangles", first + count)));
-                }
-                for (k, t) in self.tris[first..first + count].iter().enumerate() {
-                    if std::mem::replace(&mut covered[first + k], true) {
-                        return Err(bad(i, format!("triangle slot {} in two leaves", first + k)));
-                    }
-                    if !b.contains(&t.bounds()) {
-                        return Err(bad(i, format!("triangle slot {} sticks out of {b:?}", first + k)));
-                    }
-                }
-                stats.leaves += 1;
-                sizes.add(count);
-                sah += ki * count as f64 * area;
-            } else {
-                let l = node.index as usize;
-                if l <= i || l + 1 >= nodes.len() {
-                    return Err(bad(
-                        i,
-                        format!("children {l}, {} out of range (parent {i}, {} nodes)", l + 1, nodes.len()),
-                    ));
-                }
-                if depth as usize + 1 >= STACK_CAPACITY {
-                    return Err(bad(i, format!("depth {} reaches the stack capacity {STACK_CAPACITY}", depth + 1)));
-                }
-                for c in [l, l + 1] {
-                    if std::mem::replace(&mut reached[c], true) {
-                        return Err(bad(i, format!("child {c} has two parents")));
-                    }
-                    if !b.contains(&nodes[c].bounds()) {
-                        return Err(bad(i, format!("child {c} box {:?} outside {b:?}", nodes[c].bounds())));
-                    }
-                    stack.push((c, depth + 1));
-                }
-                sah += kt * area;
-            }
-        }
-        if stats.nodes != nodes.len() {
-            return Err(bad(0, format!("{} of {} nodes unreachable", nodes.len() - stats.nodes, nodes.len())));
-        }
-        if let Some(slot) = covered.iter().position(|c| !c) {
-            return Err(bad(0, format!("triangle slot {slot} in no leaf")));
-        }
-        if stats.max_depth != self.depth {
-            return Err(bad(
-                0,
-                format!("recorded depth {} but the deepest leaf is at {}", self.depth, stats.max_depth),
-            ));
-        }
-        stats.leaf_sizes = sizes.finish();
-        stats.sah_cost = (root_area > 0.0).then(|| sah / root_area);
-        Ok(stats)
     }
 }
 
-fn bad(node: usize, what: String) -> InvalidBvh {
-    InvalidBvh { node: node as u32, what }
+fn bad(node: usize, what: String) -> InvalidWbvh {
+    InvalidWbvh { node: node as u32, what }
+}
+
+impl<N: WideNode> WideTree<N> {
+    /// [`WideTree::shape`], then every block lane is an exact copy of its mesh triangle and
+    /// the blocks hold every mesh triangle exactly once; in a pre-split tree at least once
+    /// and never twice in one leaf, each vertex inside the box of a leaf holding the
+    /// triangle, and the triangle's box inside the hull of those leaves' boxes (what the
+    /// parts' boxes covering the triangle implies).
+    pub(super) fn check(&self, mesh: &TriangleMesh) -> Result<WbvhShape, InvalidWbvh> {
+        let (shape, leaf_of_block) = self.walk()?;
+        let n = mesh.triangle_count();
+        // More lanes than triangles are repeats, fewer leave a triangle out: both are
+        // named below, triangle by triangle.
+        if n != self.triangles {
+            return Err(bad(0, format!("mesh has {n} triangles, the tree was built over {}", self.triangles)));
+        }
+        // Per triangle: the last leaf (by its first block) it was seen in, the hull of its
+        // leaves' boxes, and which of its vertices a leaf box holds.
+        let mut last_leaf = vec![usize::MAX; n];
+        let mut hull = vec![Aabb::EMPTY; n];
+        let mut vertices_in = vec![0u8; n];
+        for (i, b) in self.blocks.iter().enumerate() {
+            let (leaf, leaf_box) = leaf_of_block[i];
+            for lane in (0..LANES).filter(|&l| !b.is_pad(l)) {
+                let id = b.ids[lane] as usize;
+                if id >= n {
+                    return Err(bad(0, format!("block {i} lane {lane}: triangle id {id} out of range")));
+                }
+                let seen_before = last_leaf[id] != usize::MAX;
+                if (seen_before && !self.presplit) || last_leaf[id] == leaf {
+                    return Err(bad(0, format!("block {i} lane {lane}: triangle {id} repeated")));
+                }
+                let t = mesh.triangle(id);
+                if b.triangle(lane) != t {
+                    return Err(bad(0, format!("block {i} lane {lane} is not a copy of mesh triangle {id}")));
+                }
+                last_leaf[id] = leaf;
+                hull[id] = hull[id].union(&leaf_box);
+                for (k, p) in [t.p0, t.p1, t.p2].into_iter().enumerate() {
+                    if leaf_box.contains_point(p) {
+                        vertices_in[id] |= 1 << k;
+                    }
+                }
+            }
+        }
+        for id in 0..n {
+            if last_leaf[id] == usize::MAX {
+                return Err(bad(0, format!("triangle {id} in no leaf")));
+            }
+            let t = mesh.triangle(id);
+            if vertices_in[id] != 0b111 || !hull[id].contains(&t.bounds()) {
+                return Err(bad(0, format!("the leaves holding triangle {id} do not cover it: {t:?}")));
+            }
+        }
+        Ok(shape)
+    }
+
+    /// [`WideTree::walk`]'s shape.
+    pub(super) fn shape(&self) -> Result<WbvhShape, InvalidWbvh> {
+        self.walk().map(|(s, _)| s)
+    }
+
+    /// The invariants that need no mesh: every node reached once from the root and after
+    /// its parent, lanes `count..W` empty, child boxes non-empty and inside the parent's
+    /// box for that child, leaf triangles inside their leaf's box (in a pre-split tree:
+    /// touching it), every block in exactly one leaf, padding lanes NaN (what makes them
+    /// miss in the SIMD kernel), the recorded depth the real one and the stack it needs
+    /// within [`STACK_CAPACITY`]. Also gives each block's leaf (its first block) and box.
+    fn walk(&self) -> Result<(WbvhShape, Vec<(usize, Aabb)>), InvalidWbvh> {
+        let nodes = &self.nodes;
+        if nodes.is_empty() || self.blocks.is_empty() {
+            return Err(bad(0, format!("{} nodes, {} blocks", nodes.len(), self.blocks.len())));
+        }
+        let mut s = WbvhShape::default();
+        let mut sizes = crate::LeafSizes::new();
+        let mut reached = vec![false; nodes.len()];
+        let mut leaf_of_block = vec![(usize::MAX, Aabb::EMPTY); self.blocks.len()];
+        let root_box = (0..nodes[0].count()).fold(Aabb::EMPTY, |b, k| b.union(&nodes[0].child_box(k)));
+        let root_area = root_box.surface_area() as f64;
+        let mut sah = 0.0f64;
+        // (node, its box as the parent stores it, interior level: root 1)
+        let mut stack = vec![(0usize, root_box, 1u32)];
+        reached[0] = true;
+        while let Some((i, parent_box, level)) = stack.pop() {
+            let node = &nodes[i];
+            s.interior += 1;
+            s.levels = s.levels.max(level);
+            sah += parent_box.surface_area() as f64;
+            let count = node.count();
+            if count == 0 || count > N::W {
+                return Err(bad(i, format!("{count} children (width {})", N::W)));
+            }
+            if let Some(k) = (count..N::W).find(|&k| node.child(k) != EMPTY) {
+                return Err(bad(i, format!("unused lane {k} holds reference {:#x}", node.child(k))));
+            }
+            for k in 0..count {
+                let (c, b) = (node.child(k), node.child_box(k));
+                if b.is_empty() || !parent_box.contains(&b) {
+                    return Err(bad(i, format!("child {k} box {b:?} empty or outside {parent_box:?}")));
+                }
+                if is_leaf(c) {
+                    let (first, nb) = leaf_blocks(c);
+                    if c == EMPTY || first + nb > self.blocks.len() {
+                        return Err(bad(
+                            i,
+                            format!("leaf {k} blocks {first}..{} of {}", first + nb, self.blocks.len()),
+                        ));
+                    }
+                    let mut tris = 0;
+                    for (j, blk) in self.blocks[first..first + nb].iter().enumerate() {
+                        if std::mem::replace(&mut leaf_of_block[first + j], (first, b)).0 != usize::MAX {
+                            return Err(bad(i, format!("block {} in two leaves", first + j)));
+                        }
+                        check_block(blk, &b, self.presplit).map_err(|e| bad(i, format!("block {}: {e}", first + j)))?;
+                        tris += blk.real_lanes();
+                    }
+                    s.leaves += 1;
+                    s.blocks += nb;
+                    s.triangles += tris;
+                    sizes.add(tris);
+                    sah += b.surface_area() as f64 * nb as f64;
+                } else {
+                    let ci = c as usize;
+                    if ci <= i || ci >= nodes.len() {
+                        return Err(bad(
+                            i,
+                            format!("child {k} = node {ci} out of order or range ({} nodes)", nodes.len()),
+                        ));
+                    }
+                    if std::mem::replace(&mut reached[ci], true) {
+                        return Err(bad(i, format!("node {ci} has two parents")));
+                    }
+                    stack.push((ci, b, level + 1));
+                }
+            }
+        }
+        if s.interior != nodes.len() {
+            return Err(bad(0, format!("{} of {} nodes unreachable", nodes.len() - s.interior, nodes.len())));
+        }
+        if let Some(j) = leaf_of_block.iter().position(|u| u.0 == usize::MAX) {
+            return Err(bad(0, format!("block {j} in no leaf")));
+        }
+        if s.levels != self.levels || stack_need(s.levels, N::W) != self.stack_need {
+            return Err(bad(0, format!("recorded {} levels, measured {}", self.levels, s.levels)));
+        }
+        if self.stack_need > STACK_CAPACITY {
+            return Err(bad(
+                0,
+                format!("{} levels need {} stack entries, above {STACK_CAPACITY}", s.levels, self.stack_need),
+            ));
+        }
+        s.leaf_sizes = sizes.finish();
+        s.sah_cost = (root_area > 0.0).then(|| sah / root_area);
+        Ok((s, leaf_of_block))
+    }
+}
+
+/// A block's real lanes inside `leaf_box` (touching it, where `parts`: a pre-split
+/// tree's leaf box holds only a part of a triangle), at least one real lane, padding all
+/// NaN.
+fn check_block(b: &TriBlock, leaf_box: &Aabb, parts: bool) -> Result<(), String> {
+    if b.real_lanes() == 0 {
+        return Err("no triangle".into());
+    }
+    for lane in 0..LANES {
+        if b.is_pad(lane) {
+            let t = b.triangle(lane);
+            if ![t.p0, t.p1, t.p2].iter().all(|p| p.is_nan_mask().all()) {
+                return Err(format!("padding lane {lane} is not NaN: {t:?}"));
+            }
+        } else {
+            let t = b.triangle(lane).bounds();
+            let inside = if parts { !leaf_box.intersection(&t).is_empty() } else { leaf_box.contains(&t) };
+            if !inside {
+                return Err(format!(
+                    "lane {lane} ({t:?}) {} {leaf_box:?}",
+                    if parts { "misses" } else { "sticks out of" }
+                ));
+            }
+        }
+    }
+    Ok(())
 }

@@ -441,7 +441,7 @@ pub(super) mod tests {
     use dynray_geom::{Aabb, Vec3};
 
     /// A point-sized reference at `x` on the x axis (partition.rs's tests use it too).
-    pub(in crate::bvh) fn r(x: f32, id: u32) -> PrimRef {
+    pub(in crate::bvh2) fn r(x: f32, id: u32) -> PrimRef {
         let p = Vec3::new(x, 0.0, 0.0);
         PrimRef::new(&Aabb::new(p, p), id)
     }

@@ -339,7 +339,7 @@ impl KernelChoice {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::wbvh::node::{Node4, Node8};
+    use crate::bvh::node::{Node4, Node8};
     use dynray_geom::{Aabb, Triangle, Vec3};
     use rand::{rngs::SmallRng, Rng, SeedableRng};
 
