@@ -3,8 +3,9 @@
 use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::{Args, Parser, Subcommand};
 use dynray_accel::{AccelSpec, SceneLayout, UpdatePolicy};
-use dynray_bench::trace_rays::HitField;
 use dynray_bench::{BenchConfig, Framing, Preset, RayKind};
+use dynray_engine::hit_file::HitField;
+use dynray_engine::{BackendChoice, TimeChoice};
 use dynray_gpu::{Backend, GpuBuild, GpuOptions, GpuStrategy};
 use dynray_render::{Aov, IntegratorKind};
 use std::path::PathBuf;
@@ -90,12 +91,9 @@ pub struct BackendArgs {
 }
 
 impl BackendArgs {
-    /// Refuses GPU-only options without `--backend gpu`.
-    pub fn check(&self) -> anyhow::Result<()> {
-        if self.backend != Backend::Gpu && self.gpu_build != GpuBuild::Cpu {
-            anyhow::bail!("--gpu-build {} builds for the GPU: add --backend gpu", self.gpu_build);
-        }
-        Ok(())
+    /// The engine's backend choice (checked by the job it goes into).
+    pub fn choice(&self) -> BackendChoice {
+        BackendChoice { gpu: self.gpu_options(), gpu_build: self.gpu_build }
     }
 
     /// The GPU's options when `--backend gpu`, `None` for the CPU.
@@ -119,6 +117,13 @@ pub struct TimeArgs {
     /// Frame rate of the timeline, replacing the file's (glTF: 24 unless given).
     #[arg(long, value_name = "R")]
     pub fps: Option<f32>,
+}
+
+impl TimeArgs {
+    /// The engine's choice of instant.
+    pub fn choice(&self) -> TimeChoice {
+        TimeChoice { time: self.time, frame: self.frame, clip: self.clip.clone(), fps: self.fps }
+    }
 }
 
 /// `dynray render`.
@@ -194,12 +199,12 @@ pub struct RenderArgs {
     pub gpu_strategy: GpuStrategy,
 }
 
-/// Default samples per pixel of `render`: enough for clean silhouettes and checker
-/// edges on the demo (a 3×3-stratified pattern), at 9× the one-ray cost.
-pub const DEFAULT_SPP: u32 = 9;
+/// Default samples per pixel of `render` (the engine's): enough for clean silhouettes
+/// and checker edges on the demo (a 3×3-stratified pattern), at 9× the one-ray cost.
+pub const DEFAULT_SPP: u32 = dynray_engine::jobs::render::DEFAULT_SPP;
 
 /// Most samples per pixel accepted, so a typo cannot start a week-long render.
-pub const MAX_SPP: u32 = 1 << 16;
+pub const MAX_SPP: u32 = dynray_engine::jobs::render::MAX_SPP;
 
 /// `dynray trace-rays`.
 #[derive(Args, Debug)]

@@ -127,16 +127,19 @@ def render(
     scene: Union[Scene, _Path],
     width: Optional[int] = None,
     height: Optional[int] = None,
-    spp: int = 9,
+    spp: Optional[int] = None,
     integrator: str = "whitted",
     *,
     accel: str = "bvh",
     seed: int = 0,
     max_depth: Optional[int] = None,
     flat_shading: bool = False,
+    time: Optional[float] = None,
+    frame: Optional[int] = None,
     threads: Optional[int] = None,
 ) -> npt.NDArray[np.float32]:
-    """(height, width, 3) float32 linear radiance, row 0 at the top."""
+    """(height, width, 3) float32 linear radiance, row 0 at the top: what
+    `dynray render … -o x.exr` writes for the same options (physics simulated to `time`)."""
 
 def trace_rays(
     mesh_path: _Path,
@@ -146,6 +149,8 @@ def trace_rays(
     occluded: bool = False,
     fields: Optional[Sequence[str]] = None,
     *,
+    time: Optional[float] = None,
+    frame: Optional[int] = None,
     threads: Optional[int] = None,
 ) -> Dict[str, Any]:
     """`dynray trace-rays MESH --rays RAYS -o OUT` in process; returns counts and times."""

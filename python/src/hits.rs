@@ -1,7 +1,7 @@
 //! Answers out: closest hits as a dict of numpy arrays with trace-rays' names, dtypes and
 //! miss values (docs/trace-rays.md, "Output"), built with the GIL released.
 
-use dynray_bench::trace_rays::{hit_normals, hit_points};
+use dynray_engine::hit_file::{hit_normals, hit_points};
 use dynray_geom::{Hit, TriangleMesh};
 use numpy::{IntoPyArray, PyArrayMethods};
 use pyo3::prelude::*;

@@ -4,7 +4,7 @@
 //! A C-contiguous float32 (N, 8) array is used in place: `Ray` is `#[repr(C)]` Pod of 8
 //! f32s, so its buffer is a `&[Ray]` (no copy, the array stays borrowed while traced).
 //! Anything else is converted once. Every ray is checked as trace-rays checks its file
-//! (`dynray_bench::trace_rays::check_rays`): finite origin and direction, no NaN interval.
+//! (`dynray_engine::hit_file::check_rays`): finite origin and direction, no NaN interval.
 
 use crate::arrays::{self, float_rows, ndarray};
 use dynray_geom::{Ray, Vec3};
@@ -89,7 +89,7 @@ fn rows8<'py>(obj: &Bound<'py, PyAny>) -> PyResult<Rays<'py>> {
     Ok(Rays::Owned(bytemuck::cast_vec(rows)))
 }
 
-/// [`dynray_bench::trace_rays::check_rays`] as a `ValueError`.
+/// [`dynray_engine::hit_file::check_rays`] as a `ValueError`.
 pub fn check(rays: &[Ray]) -> PyResult<()> {
-    dynray_bench::trace_rays::check_rays(rays).map_err(PyValueError::new_err)
+    dynray_engine::hit_file::check_rays(rays).map_err(PyValueError::new_err)
 }

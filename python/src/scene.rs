@@ -27,7 +27,9 @@ pub struct Scene {
 #[pyfunction]
 pub fn load(py: Python<'_>, path: PathBuf) -> PyResult<Scene> {
     let report = py.detach(|| dynray_scene::load_file_unshaded(&path)).map_err(load_error)?;
-    let mesh = Py::new(py, Mesh::from_mesh(report.scene.frame(0.0).mesh))?;
+    // Frame 0 is the timeline's start, as every front end counts it (engine's timeline.rs).
+    let t0 = dynray_engine::timeline::frame_zero(&report.scene);
+    let mesh = Py::new(py, Mesh::from_mesh(report.scene.frame(t0).mesh))?;
     let mut warnings: Vec<String> = Vec::new();
     for w in report.warnings.iter().map(|w| w.to_string()) {
         if !warnings.contains(&w) {

@@ -1,9 +1,11 @@
 //! `dynray.trace_rays`: the command line's file interface (`dynray trace-rays`), the same
-//! code (`dynray_bench::trace_rays`), for scripts that have files rather than arrays.
+//! job (`dynray_engine::TraceJob`), for scripts that have files rather than arrays.
 
 use crate::errors::{build_error, file_error};
 use crate::pool;
-use dynray_bench::trace_rays::{run as run_job, HitField, Job, Notice, Query};
+use dynray_engine::hit_file::HitField;
+use dynray_engine::jobs::trace::Notice;
+use dynray_engine::{BackendChoice, Query, TimeChoice, TraceJob};
 use pyo3::exceptions::{PyUserWarning, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -12,10 +14,12 @@ use std::path::PathBuf;
 /// Reads `mesh_path` (any format dynray reads, unshaded) and the (N, 8) `.npy` rays,
 /// builds `accel`, traces, and writes `out_path` (`.npz`) exactly as `dynray trace-rays
 /// MESH --rays RAYS -o OUT --accel ACCEL [--occluded | --fields …]` does. `fields`
-/// defaults to `["t", "prim", "u", "v"]`. The CLI's notes (converted rays) and load
+/// defaults to `["t", "prim", "u", "v"]`. `time` (seconds) or `frame` pick the instant of
+/// an animated file (frame 0 by default), its physics simulated to it, as `--time` and
+/// `--frame` do. The CLI's notes (converted rays) and load
 /// warnings are issued as `UserWarning`s. Returns the counts and times (ms) as a dict.
 #[pyfunction]
-#[pyo3(signature = (mesh_path, rays_path, out_path, accel = "bvh", occluded = false, fields = None, *, threads = None))]
+#[pyo3(signature = (mesh_path, rays_path, out_path, accel = "bvh", occluded = false, fields = None, *, time = None, frame = None, threads = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn trace_rays<'py>(
     py: Python<'py>,
@@ -25,6 +29,8 @@ pub fn trace_rays<'py>(
     accel: &str,
     occluded: bool,
     fields: Option<Vec<String>>,
+    time: Option<f32>,
+    frame: Option<u32>,
     threads: Option<usize>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let spec: dynray_accel::AccelSpec = accel.parse().map_err(build_error)?;
@@ -37,18 +43,17 @@ pub fn trace_rays<'py>(
         ),
     };
     let pool = pool::pool(threads)?;
-    let job = Job {
-        mesh: &mesh_path,
-        rays: &rays_path,
-        output: &out_path,
-        accel: &spec,
+    let job = TraceJob {
+        mesh: mesh_path,
+        rays: rays_path,
+        output: out_path,
+        accel: spec,
         query,
-        pose: None,
-        gpu: None,
-        gpu_build: Default::default(),
+        when: TimeChoice { time, frame, ..Default::default() },
+        backend: BackendChoice::cpu(),
     };
     let mut notices = Vec::new();
-    let result = py.detach(|| pool::run(&pool, || run_job(&job, &mut |n| notices.push(n))));
+    let result = py.detach(|| pool::run(&pool, || job.run(&mut |n| notices.push(n))));
     for n in notices {
         let (Notice::Note(m) | Notice::Warning(m)) = n;
         PyErr::warn(py, &py.get_type::<PyUserWarning>(), &std::ffi::CString::new(m).unwrap_or_default(), 1)?;

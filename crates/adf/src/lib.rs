@@ -127,6 +127,32 @@ pub struct View {
     pub projection: ViewProjection,
 }
 
+impl View {
+    /// The view of a scene camera (its clip planes are not kept: a field's source is a
+    /// mesh file, whose default view has none).
+    pub fn of_camera(c: &dynray_scene::Camera) -> Self {
+        let projection = match c.projection {
+            dynray_scene::Projection::Perspective { fov_y_deg } => ViewProjection::Perspective(fov_y_deg),
+            dynray_scene::Projection::Parallel { height } => ViewProjection::Parallel(height),
+        };
+        View { position: c.position, look_at: c.look_at, up: c.up, projection }
+    }
+
+    /// The scene camera this view stands for, without clip planes.
+    pub fn camera(&self) -> dynray_scene::Camera {
+        dynray_scene::Camera {
+            position: self.position,
+            look_at: self.look_at,
+            up: self.up,
+            projection: match self.projection {
+                ViewProjection::Perspective(fov_y_deg) => dynray_scene::Projection::Perspective { fov_y_deg },
+                ViewProjection::Parallel(height) => dynray_scene::Projection::Parallel { height },
+            },
+            clip: dynray_scene::Clip::NONE,
+        }
+    }
+}
+
 /// [`View`]'s projection.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ViewProjection {

@@ -1,18 +1,8 @@
 //! Number formatting shared by report.md, the presets' tables and the command line:
 //! `871,414`, `1.5 MiB`, three significant digits.
 
-/// `871,414`.
-pub fn thousands(n: u64) -> String {
-    let s = n.to_string();
-    let mut out = String::new();
-    for (i, c) in s.chars().enumerate() {
-        if i > 0 && (s.len() - i).is_multiple_of(3) {
-            out.push(',');
-        }
-        out.push(c);
-    }
-    out
-}
+/// `871,414`: the engine's formatter, so the bench's tables and the commands' summaries agree.
+pub use dynray_engine::format::thousands;
 
 /// `1.5 MiB`.
 pub fn bytes(n: usize) -> String {

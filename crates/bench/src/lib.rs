@@ -27,7 +27,6 @@ pub mod rays;
 pub mod report;
 pub mod run;
 pub mod scenes;
-pub mod trace_rays;
 pub mod variant;
 
 pub use config::{BenchConfig, Preset};

@@ -17,6 +17,7 @@
 //! bit. Without f64 the kernels run the same test in f32 ([`Precision::F32`]).
 
 mod adf;
+mod adf_aov;
 mod backend;
 mod buffer;
 mod build;
@@ -28,6 +29,7 @@ mod render;
 mod shader;
 
 pub use adf::{GpuAdf, GpuMarch};
+pub use adf_aov::DeviceFieldAov;
 pub use backend::Backend;
 pub use build::{BuildTimings, GpuBuild};
 pub use bvh::GpuBvh;

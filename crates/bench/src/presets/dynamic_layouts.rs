@@ -19,7 +19,8 @@ use crate::report::{median, LayoutRun, Mismatch};
 use crate::scenes::BenchScene;
 use anyhow::{Context, Result};
 use dynray_accel::{AccelKind, AccelSpec, Brute, LiveScene, SceneLayout, UpdatePolicy};
-use dynray_render::{actor_geometry, build_live_scene, render, RenderOptions};
+use dynray_engine::{Fields, FrameSettings, FrameStep, Stage, Tracer};
+use dynray_render::{actor_geometry, render, RenderOptions};
 use std::hint::black_box;
 use std::time::Instant;
 
@@ -90,14 +91,18 @@ fn one_run(
     tick: &dyn Fn(),
 ) -> Result<LayoutRun> {
     let label = format!("{v} {layout} {policy}");
-    let mut frame = scene.frame(frame_time(scene, 0, frames));
-    let (mut live, _) = build_live_scene(v, policy, layout, scene, &frame)
-        .with_context(|| format!("{}: cannot build {label}", sc.name))?;
+    // The engine's frame step, as `animate` drives it: built on frame 0 here, so that
+    // the loop's figures are updates only.
+    let size = FrameSettings { width: Some(width), height: Some(height), ..Default::default() };
+    let stage = Stage::new(scene.clone(), &sc.name, size)?;
+    let mut step = FrameStep::new(stage, Tracer::cpu(v, policy, layout, Fields::default()));
+    step.advance_to(frame_time(scene, 0, frames)).with_context(|| format!("{}: cannot build {label}", sc.name))?;
+    let live = step.tracer.live_scene().expect("built");
     let (parts, instances) = live.two_level().map_or((1, 1), |t| t.counts());
     let brute_spec = AccelSpec::new(AccelKind::Brute);
     let mut run = LayoutRun {
         scene: sc.name.clone(),
-        triangles: frame.mesh.triangle_count(),
+        triangles: step.stage.frame().mesh.triangle_count(),
         accel: v.to_string(),
         layout: live.layout().to_string(),
         policy: policy.to_string(),
@@ -106,20 +111,20 @@ fn one_run(
         ..LayoutRun::default()
     };
     for f in 0..frames {
-        scene.frame_into(frame_time(scene, f, frames), &mut frame);
-        frame.settings.width = width;
-        frame.settings.height = height;
+        let report = step
+            .advance_to(frame_time(scene, f, frames))
+            .with_context(|| format!("{} frame {f}: {label}", sc.name))?
+            .update;
+        // The structure's update alone, as before the pose moved into the frame step.
+        let update = report.time.as_secs_f64() * 1e3;
+        let (frame, live) = (step.stage.frame(), step.tracer.live_scene().expect("built"));
         let eye = frame.camera.position;
-        let actors = actor_geometry(scene, &frame);
-        let t = Instant::now();
-        let report =
-            live.update(&actors, &frame.mesh, Some(eye)).with_context(|| format!("{} frame {f}: {label}", sc.name))?;
-        let update = ms(t);
-        let sets = RaySets { sets: vec![(RayKind::Primary, rays::primary(&frame, width, height))] };
+        let actors = actor_geometry(scene, frame);
+        let sets = RaySets { sets: vec![(RayKind::Primary, rays::primary(frame, width, height))] };
         let rays = &sets.sets[0].1;
         let trace = timed_pass(live.accel(), rays, false).0;
         let t = Instant::now();
-        black_box(render(&frame, live.accel(), &RenderOptions::default()));
+        black_box(render(frame, live.accel(), &RenderOptions::default()));
         run.update_ms.push(update);
         run.trace_ms.push(trace);
         run.time_to_image_ms.push(update + ms(t));

@@ -24,9 +24,9 @@ use crate::report::{median, Mismatch, PhysicsRun, Seed000Physics};
 use crate::scenes::{resolve, scenes_dir};
 use anyhow::{Context, Result};
 use dynray_accel::{Accel, AccelSpec, Brute};
+use dynray_engine::{FrameSettings, Stage};
 use dynray_render::{render, RenderOptions};
 use dynray_scene::Frame;
-use dynray_sim::World;
 use std::fmt::Write;
 use std::hint::black_box;
 use std::time::Instant;
@@ -86,7 +86,11 @@ pub fn run(config: &BenchConfig, mismatches: &mut Vec<Mismatch>) -> Result<Seed0
     let file = tmp.path().join("bunny_drop.scn");
     std::fs::write(&file, scenario(&bunny, frames, (width, height))).context("seed000 physics: cannot write")?;
     let scene = dynray_scene::load_file(&file).context("seed000 physics: the scenario")?;
-    let mut world = World::from_scene(&scene)?.context("seed000 physics: the scenario has no elastic body")?;
+    let timeline = scene.animation.timeline;
+    let size = FrameSettings { width: Some(width), height: Some(height), ..Default::default() };
+    // The engine's stage: the scene posed and its bodies simulated, as `animate` does.
+    let mut stage = Stage::new(scene, "seed000 physics", size)?;
+    let world = stage.world().context("seed000 physics: the scenario has no elastic body")?;
     let phyxels = world.bodies().iter().map(|b| b.len()).sum();
     let describe = world.describe();
 
@@ -94,18 +98,11 @@ pub fn run(config: &BenchConfig, mismatches: &mut Vec<Mismatch>) -> Result<Seed0
     let bar = progress_bar(config.progress, (frames * (structures().len() + 1)) as u64);
     let mut posed: Vec<Frame> = Vec::with_capacity(frames);
     let mut physics_ms = Vec::with_capacity(frames);
-    let mut frame = scene.frame(scene.animation.timeline.time_of(0));
     for f in 0..frames {
         bar.set_message(format!("seed000 physics: simulating frame {}", f + 1));
-        let t = scene.animation.timeline.time_of(f as u32);
-        scene.frame_into(t, &mut frame);
-        let t0 = Instant::now();
-        world.advance_to(t as f64).with_context(|| format!("seed000 physics: frame {f}"))?;
-        world.write_into(&mut frame).with_context(|| format!("seed000 physics: frame {f}"))?;
-        physics_ms.push(ms(t0));
-        frame.settings.width = width;
-        frame.settings.height = height;
-        posed.push(frame.clone());
+        let timing = stage.pose(timeline.time_of(f as u32)).with_context(|| format!("seed000 physics: frame {f}"))?;
+        physics_ms.push(timing.physics.as_secs_f64() * 1e3);
+        posed.push(stage.frame().clone());
         bar.inc(1);
     }
     let rays = rays::primary(&posed[0], width, height);

@@ -1,20 +1,23 @@
-//! `render FILE.adf --backend gpu --aov …`: the render loop's camera-ray batches
-//! (`Integrator::radiance_batch`) sphere traced on the device by [`GpuAdf`], each hit
-//! turned into the engine's surface by [`AdfGeometry::surface_at`] with the device's
+//! A field's AOVs with its camera rays marched on the device: the render loop's
+//! camera-ray batches (`Integrator::radiance_batch`) sphere traced by [`GpuAdf`], each
+//! hit turned into the engine's surface by [`AdfGeometry::surface_at`] with the device's
 //! gradient, so the AOVs are the CPU's for the same hits.
 //!
 //! Shaded images of fields are the CPU's: the device kernels shade triangles only.
 
+use crate::GpuAdf;
 use dynray_adf::{AdfGeometry, Search};
 use dynray_geom::Ray;
-use dynray_gpu::GpuAdf;
 use dynray_render::{Aov, Integrator, RayCounts, Sampler};
 use dynray_scene::Color;
 
 /// One AOV of a field whose camera rays are marched on the device.
 pub struct DeviceFieldAov<'a> {
+    /// The AOV drawn.
     pub aov: Aov,
+    /// The field on the device.
     pub device: &'a GpuAdf,
+    /// The same field on the CPU, which turns a marched hit into a surface.
     pub geometry: AdfGeometry<'a>,
 }
 

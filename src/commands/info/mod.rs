@@ -1,5 +1,8 @@
 //! `dynray info`: what a file holds and what a structure built over it looks like.
 
+mod adf;
+mod gpu;
+
 use super::thousands;
 use crate::cli::InfoArgs;
 use anyhow::{Context, Result};
@@ -14,7 +17,7 @@ pub fn run(a: InfoArgs) -> Result<()> {
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
     if a.gpu {
-        super::gpu_info::write(&mut out, a.gpu_adapter.as_deref())?;
+        gpu::write(&mut out, a.gpu_adapter.as_deref())?;
     }
     let Some(file) = &a.file else { return Ok(()) };
     if a.gpu {
@@ -24,17 +27,18 @@ pub fn run(a: InfoArgs) -> Result<()> {
 }
 
 fn file_info(out: &mut impl Write, file: &std::path::Path, a: &InfoArgs) -> Result<()> {
-    if super::adf::is_adf(file) {
-        return super::adf::info(out, file);
+    if dynray_engine::load::is_adf(file) {
+        return adf::write(out, file);
     }
     // Loaded unshaded, then shaded as `render` does, so the file's own counts are shown
     // and the two steps are timed apart.
     let t0 = Instant::now();
-    let mut scene = super::load_unshaded(file)?;
+    let mut loaded = super::load(Some(file))?;
     let load_ms = t0.elapsed().as_secs_f64() * 1e3;
-    let frame = scene.frame(scene.animation.timeline.time_of(0));
+    let frame = loaded.scene.frame(dynray_engine::timeline::frame_zero(&loaded.scene));
     let t1 = Instant::now();
-    super::apply_shading(&mut scene, file)?;
+    loaded.shade(false)?;
+    let scene = &loaded.scene;
     let shading_ms = t1.elapsed().as_secs_f64() * 1e3;
     let mesh = &frame.mesh;
     let b = mesh.bounds();
@@ -52,8 +56,8 @@ fn file_info(out: &mut impl Write, file: &std::path::Path, a: &InfoArgs) -> Resu
         }
     }
     writeln!(out, "lights      {}", thousands(frame.lights.len()))?;
-    writeln!(out, "normals     {}", normals_summary(&scene, shading_ms))?;
-    writeln!(out, "animation   {}", animation_summary(&scene))?;
+    writeln!(out, "normals     {}", normals_summary(scene, shading_ms))?;
+    writeln!(out, "animation   {}", animation_summary(scene))?;
     writeln!(
         out,
         "bounds      [{:.6}, {:.6}, {:.6}] .. [{:.6}, {:.6}, {:.6}]",

@@ -1,5 +1,5 @@
 //! The distance fields a scene places (`.scn` `adf { … }`, [`Frame::distance_fields`]):
-//! loaded once per command, then intersected beside the frame's triangles through the
+//! loaded once per job, then intersected beside the frame's triangles through the
 //! engine's one scene-level intersector and render loop.
 
 use anyhow::{Context, Result};
@@ -24,7 +24,7 @@ impl Fields {
         let mut files: Vec<(PathBuf, Adf)> = Vec::new();
         for f in placements {
             if files.iter().all(|(p, _)| *p != f.file) {
-                let adf = super::adf::load(&f.file).with_context(|| format!("{label}: its `adf` block"))?;
+                let adf = Adf::load(&f.file).with_context(|| format!("{label}: its `adf` block"))?;
                 files.push((f.file.clone(), adf));
             }
         }

@@ -1,24 +1,18 @@
-//! Batch ray queries through files, for other programs (numpy users): what `dynray
-//! trace-rays` and the Python package's `dynray.trace_rays` both run (docs/trace-rays.md).
+//! The ray and hit files of the trace job, for other programs (numpy users): what
+//! `dynray trace-rays` and the Python package's `dynray.trace_rays` read and write
+//! (docs/trace-rays.md).
 //!
 //! Input: .npy of shape (N, 8): origin xyz, direction xyz, tmin, tmax; float32 in C order
-//! as it is, float64 or Fortran order converted (with a [`Notice::Note`] saying so).
+//! as it is, float64 or Fortran order converted (with a note saying so).
 //! Output: .npz with `t` (float32, inf on miss), `prim` (int64, -1 on miss), `u`, `v`
 //! (float32), one entry per ray in input order; with occluded queries, one bool `occluded`.
-//! Triangle indices follow the faces of the input file (polygons fan-triangulated): the
-//! mesh is read unshaded, as [`dynray_scene::load_mesh`] reads it.
 //! Arrays are stored uncompressed, as numpy's `np.savez` writes them.
-//!
-//! The library does not print: notes and load warnings go to the caller's callback (the
-//! binary prints them on stderr), and [`Summary`]'s `Display` is the binary's last line.
 
 use anyhow::{bail, Context, Result};
-use dynray_accel::{AccelSpec, BatchQuery, Coherent};
 use dynray_geom::{Hit, Ray, TriangleMesh};
 use npyz::WriterBuilder;
 use std::io::{BufWriter, Write};
 use std::path::Path;
-use std::time::{Duration, Instant};
 
 /// An array of closest hits that can be asked for (docs/trace-rays.md, "Output").
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -63,191 +57,10 @@ impl std::str::FromStr for HitField {
     }
 }
 
-/// What to ask of every ray.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub enum Query {
-    /// Closest hits, writing these arrays.
-    Closest(Vec<HitField>),
-    /// Any-hit (shadow) queries, writing one bool array `occluded`.
-    Occluded,
-}
-
-/// One file-to-file run: the command line's arguments.
-#[derive(Clone)]
-pub struct Job<'a> {
-    /// Mesh or scene file, any format dynray reads.
-    pub mesh: &'a Path,
-    /// The (N, 8) `.npy` ray array.
-    pub rays: &'a Path,
-    /// The `.npz` archive to write.
-    pub output: &'a Path,
-    /// The structure and its parameters.
-    pub accel: &'a AccelSpec,
-    /// Closest hits or any-hit.
-    pub query: Query,
-    /// Chooses the instant of an animated file (clip, frame rate, time) and returns its
-    /// time; `None` is frame 0 of the file's timeline. The CLI's `--time`, `--frame`,
-    /// `--clip` and `--fps` come through here.
-    pub pose: Option<&'a Pose<'a>>,
-    /// Trace on the GPU (docs/gpu.md) with the adapter these options choose; `None` traces
-    /// on the CPU. The GPU traces a `bvh` built as `gpu_build` says (`build` in the
-    /// summary includes opening the device and any upload).
-    pub gpu: Option<dynray_gpu::GpuOptions>,
-    /// Where the GPU's `bvh` is built (`cpu`, `sah`, `lbvh`); ignored on the CPU.
-    pub gpu_build: dynray_gpu::GpuBuild,
-}
-
-/// Chooses the instant of an animated scene (its clip, frame rate, time) and returns the
-/// time to pose it at.
-pub type Pose<'p> = dyn Fn(&mut dynray_scene::Scene) -> Result<f32> + Sync + 'p;
-
-/// Something a person should see that does not stop the run.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub enum Notice {
-    /// The rays were converted (float64 or Fortran order): what the binary prints as
-    /// `dynray: note: …`.
-    Note(String),
-    /// A warning of the mesh loader (a missing `.mtl`, …), each distinct one once.
-    Warning(String),
-}
-
-/// Counts and times of a finished run.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Summary {
-    /// Rays traced.
-    pub rays: usize,
-    /// Rays that hit (closest hits) or are occluded (any-hit).
-    pub hits: usize,
-    /// True for an any-hit run.
-    pub occluded: bool,
-    /// The structure's name.
-    pub accel: &'static str,
-    /// Reading the rays and the mesh.
-    pub read: Duration,
-    /// Building the structure.
-    pub build: Duration,
-    /// Tracing every ray.
-    pub trace: Duration,
-    /// Writing the archive.
-    pub write: Duration,
-}
-
-impl std::fmt::Display for Summary {
-    /// `1000000 rays, 512027 hits; read 157.0 ms, bvh build 68.0 ms, trace …, write …`.
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let ms = |d: Duration| d.as_secs_f64() * 1e3;
-        let what = if self.occluded { "occluded" } else { "hits" };
-        write!(
-            f,
-            "{} rays, {} {what}; read {:.1} ms, {} build {:.1} ms, trace {:.1} ms, write {:.1} ms",
-            self.rays,
-            self.hits,
-            ms(self.read),
-            self.accel,
-            ms(self.build),
-            ms(self.trace),
-            ms(self.write)
-        )
-    }
-}
-
-/// Runs `job`: checks the output name, reads the rays and the mesh (unshaded), builds,
-/// traces on the current rayon pool and writes the archive atomically.
-pub fn run(job: &Job<'_>, notices: &mut dyn FnMut(Notice)) -> Result<Summary> {
-    check_output(job.output)?;
-    let t_read = Instant::now();
-    let rays = read_rays(job.rays, notices)?;
-    let mesh = load_posed(job.mesh, job.pose, notices)?;
-    let read = t_read.elapsed();
-    let t0 = Instant::now();
-    let cannot_build = || format!("{}: cannot build {}", job.mesh.display(), job.accel);
-    let (hits, trace, write, name) = match &job.gpu {
-        None => {
-            let cpu = job.accel.build(&mesh, None).with_context(cannot_build)?;
-            let build = t0.elapsed();
-            // Both queries through the coherent path: groups of 8 consecutive rays with one
-            // origin (a camera's, a point's towards a light) go through the structure's
-            // packets where it has them; the answers are the single rays', bit for bit.
-            let (h, t, w) = trace_and_write(job, &Coherent(cpu.as_ref()), &rays, &mesh)?;
-            (h, t, w, (cpu.name(), build))
-        }
-        Some(options) => {
-            let gpu = gpu_bvh(job, &mesh, options).with_context(cannot_build)?;
-            let build = t0.elapsed();
-            let (h, t, w) = trace_and_write(job, &gpu, &rays, &mesh)?;
-            let name = match job.gpu_build {
-                dynray_gpu::GpuBuild::Cpu => "bvh (gpu)",
-                dynray_gpu::GpuBuild::Sah => "bvh (gpu, sah build)",
-                dynray_gpu::GpuBuild::Lbvh => "bvh (gpu, lbvh build)",
-            };
-            (h, t, w, (name, build))
-        }
-    };
-    let (name, build) = name;
-    let occluded = job.query == Query::Occluded;
-    Ok(Summary { rays: rays.len(), hits, occluded, accel: name, read, build, trace, write })
-}
-
-/// Traces `rays` through `accel` and writes the archive: (answers counted, trace time,
-/// write time).
-fn trace_and_write<Q: BatchQuery + ?Sized>(
-    job: &Job<'_>,
-    accel: &Q,
-    rays: &[Ray],
-    mesh: &TriangleMesh,
-) -> Result<(usize, Duration, Duration)> {
-    let t1 = Instant::now();
-    Ok(match &job.query {
-        Query::Occluded => {
-            let occ = accel.occluded_batch(rays);
-            let trace = t1.elapsed();
-            let t2 = Instant::now();
-            write_npz(job.output, |npz| write_array(npz, "occluded", &occ))?;
-            (occ.iter().filter(|&&o| o).count(), trace, t2.elapsed())
-        }
-        Query::Closest(fields) => {
-            let hits = accel.intersect_batch(rays);
-            let trace = t1.elapsed();
-            let t2 = Instant::now();
-            write_npz(job.output, |npz| fields.iter().try_for_each(|&f| write_field(npz, f, &hits, mesh)))?;
-            (hits.iter().filter(|h| h.is_hit()).count(), trace, t2.elapsed())
-        }
-    })
-}
-
-/// The job's `bvh` on the adapter `options` choose, built where `job.gpu_build` says.
-fn gpu_bvh(job: &Job<'_>, mesh: &TriangleMesh, options: &dynray_gpu::GpuOptions) -> Result<dynray_gpu::GpuBvh> {
-    let params = job.accel.binary_bvh_params()?;
-    let ctx = std::sync::Arc::new(dynray_gpu::GpuContext::new(options)?);
-    Ok(dynray_gpu::GpuBvh::build(ctx, mesh, job.gpu_build, &params)?.0)
-}
-
-/// Any file dynray reads as one triangle mesh with the file's own vertices (what
-/// [`dynray_scene::load_mesh`] returns), its warnings passed on, each distinct one once.
-pub fn load_mesh(path: &Path, notices: &mut dyn FnMut(Notice)) -> Result<TriangleMesh> {
-    load_posed(path, None, notices)
-}
-
-/// [`load_mesh`] at the instant `pose` chooses (frame 0 without one).
-pub fn load_posed(path: &Path, pose: Option<&Pose<'_>>, notices: &mut dyn FnMut(Notice)) -> Result<TriangleMesh> {
-    let mut report = dynray_scene::load_file_unshaded(path)?;
-    let mut shown = Vec::with_capacity(report.warnings.len());
-    for w in &report.warnings {
-        if !shown.contains(&w) {
-            notices(Notice::Warning(w.to_string()));
-            shown.push(w);
-        }
-    }
-    let time = match pose {
-        Some(pose) => pose(&mut report.scene)?,
-        None => report.scene.animation.timeline.time_of(0),
-    };
-    Ok(report.scene.frame(time).mesh)
-}
-
 /// Reads and checks the (N, 8) ray array: float32 as it is, float64 and Fortran order
 /// (what numpy users often have) converted, with a note saying so.
-pub fn read_rays(path: &Path, notices: &mut dyn FnMut(Notice)) -> Result<Vec<Ray>> {
+/// `note` hears of a conversion (what the binary prints as `dynray: note: …`).
+pub fn read_rays(path: &Path, note: &mut dyn FnMut(String)) -> Result<Vec<Ray>> {
     let file = std::fs::File::open(path).with_context(|| format!("{}: cannot open", path.display()))?;
     let npy = npyz::NpyFile::new(std::io::BufReader::new(file))
         .with_context(|| format!("{}: not a valid .npy file", path.display()))?;
@@ -280,7 +93,7 @@ pub fn read_rays(path: &Path, notices: &mut dyn FnMut(Notice)) -> Result<Vec<Ray
             (true, false) => "float64",
             _ => "Fortran order",
         };
-        notices(Notice::Note(format!("{}: rays given as {what}, converted to C-order float32", path.display())));
+        note(format!("{}: rays given as {what}, converted to C-order float32", path.display()));
     }
     // Rows are `Ray`s as they lie in memory (`Ray` is `#[repr(C)]`, 8 f32s): no copy
     // where the vector's capacity allows, one memcpy otherwise.
@@ -398,9 +211,8 @@ fn write_npz(path: &Path, fill: impl FnOnce(&mut Npz) -> std::io::Result<()>) ->
         _ => Path::new("."),
     };
     // Ordinary permissions, not tempfile's private 0600: the hits are for other tools.
-    let tmp = crate::output::readable_temp_builder()
-        .tempfile_in(dir)
-        .with_context(|| format!("{}: cannot write here", path.display()))?;
+    let tmp =
+        readable_temp_builder().tempfile_in(dir).with_context(|| format!("{}: cannot write here", path.display()))?;
     let file = tmp.reopen().with_context(|| format!("{}: cannot write", path.display()))?;
     let mut npz = npyz::npz::NpzWriter::new(BufWriter::new(file));
     fill(&mut npz).with_context(|| format!("{}: write failed", path.display()))?;
@@ -409,6 +221,28 @@ fn write_npz(path: &Path, fill: impl FnOnce(&mut Npz) -> std::io::Result<()>) ->
     drop(inner);
     tmp.persist(path).with_context(|| format!("{}: cannot move the finished file into place", path.display()))?;
     Ok(())
+}
+
+/// Writes the closest hits' `fields` to the archive `path` (atomically).
+pub fn write_hits(path: &Path, fields: &[HitField], hits: &[Hit], mesh: &TriangleMesh) -> Result<()> {
+    write_npz(path, |npz| fields.iter().try_for_each(|&f| write_field(npz, f, hits, mesh)))
+}
+
+/// Writes the any-hit answers as one bool array `occluded` (atomically).
+pub fn write_occluded(path: &Path, occluded: &[bool]) -> Result<()> {
+    write_npz(path, |npz| write_array(npz, "occluded", occluded))
+}
+
+/// A temporary-file builder whose files end up with ordinary permissions (0644 less the
+/// umask) instead of tempfile's private 0600: the hits are for other tools.
+fn readable_temp_builder() -> tempfile::Builder<'static, 'static> {
+    let mut b = tempfile::Builder::new();
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        b.permissions(std::fs::Permissions::from_mode(0o644));
+    }
+    b
 }
 
 #[cfg(test)]

@@ -1,0 +1,256 @@
+//! The animate job: the frames of an animated scene to numbered PNGs through the frame
+//! step ([`FrameStep`]: pose, physics, structure update) and the tracer, with per-frame
+//! timings, a preview, shards for array jobs and resumption (docs/animate.md).
+
+use super::preview;
+use crate::backend::BackendChoice;
+use crate::fields::Fields;
+use crate::format::thousands;
+use crate::frame_step::{FrameSettings, FrameStep, Stage};
+use crate::load::Loaded;
+use crate::timeline::shape_timeline;
+use crate::tracer::{GpuChoice, Tracer};
+use anyhow::{bail, Context, Result};
+use dynray_accel::{AccelSpec, SceneLayout, UpdatePolicy};
+use dynray_gpu::GpuStrategy;
+use dynray_render::{write_image, IntegratorKind, RenderOptions};
+use dynray_scene::Frame;
+use std::fs::{File, OpenOptions};
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+/// Columns of `timings.csv`, one row per rendered frame.
+pub const TIMINGS_HEADER: &str = "frame,time_s,pose_ms,update,update_ms,sah_ratio,render_ms,time_to_image_ms,rays";
+
+/// `DIR/frame_NNNN.png`.
+pub fn frame_path(dir: &Path, k: u32) -> PathBuf {
+    dir.join(format!("frame_{k:04}.png"))
+}
+
+/// Everything an animation run is asked.
+#[derive(Clone, Debug)]
+pub struct AnimateJob {
+    /// The folder of frames, timings and preview.
+    pub out: PathBuf,
+    /// The frames `A..=B` to render; `None`: all.
+    pub frames: Option<(u32, u32)>,
+    /// The clip to play.
+    pub clip: Option<String>,
+    /// The timeline's frame rate, replacing the file's.
+    pub fps: Option<f32>,
+    /// The structure.
+    pub accel: AccelSpec,
+    /// How it follows the motion.
+    pub update: UpdatePolicy,
+    /// How actors are arranged into structures.
+    pub scene_accel: SceneLayout,
+    /// Image size; `None` keeps the scene's.
+    pub width: Option<u32>,
+    /// Image size; `None` keeps the scene's.
+    pub height: Option<u32>,
+    /// Samples per pixel.
+    pub spp: u32,
+    /// Whitted, cumulative or path.
+    pub integrator: IntegratorKind,
+    /// Sampler seed.
+    pub seed: u64,
+    /// `(K, N)`: render the frames `k` with `k % N == K`.
+    pub shard: Option<(u32, u32)>,
+    /// Skip frames whose PNG is there.
+    pub resume: bool,
+    /// Also write each frame's world-space triangles as OBJ.
+    pub export_meshes: bool,
+    /// Flat shading for every actor.
+    pub flat_shading: bool,
+    /// CPU or GPU.
+    pub backend: BackendChoice,
+    /// Seed 003's GPU strategy.
+    pub gpu_strategy: GpuStrategy,
+}
+
+/// What a run tells its front end as it goes.
+#[derive(Clone, Copy, Debug)]
+pub enum AnimateEvent<'a> {
+    /// Resuming: `done` of the shard's `of` frames are there already.
+    Resuming {
+        /// Frames found.
+        done: usize,
+        /// Frames of this shard.
+        of: usize,
+    },
+    /// The scene has physics: its description.
+    Physics(&'a str),
+    /// `count` frames are about to be rendered.
+    Started {
+        /// Frames to render.
+        count: usize,
+    },
+    /// Frame `k` is written.
+    Frame {
+        /// Its number.
+        k: u32,
+        /// What the structure's update did (`kept`, `refit`, `rebuilt`, `moved`).
+        update: &'static str,
+        /// Pose to written image.
+        to_image: Duration,
+    },
+}
+
+impl AnimateJob {
+    /// Checks what needs no scene.
+    pub fn check(&self) -> Result<()> {
+        self.backend.check()?;
+        if let Some((shard, shards)) = self.shard {
+            if shards == 0 || shard >= shards {
+                bail!("--shard {shard}/{shards}: K must be below N");
+            }
+        }
+        if let Some((a, b)) = self.frames {
+            if a > b {
+                bail!("--frames {a}..{b}: the first frame is after the last");
+            }
+        }
+        Ok(())
+    }
+
+    /// Renders the frames of `loaded`; `events` hears of the progress. Returns the
+    /// summary line.
+    pub fn run(&self, mut loaded: Loaded, events: &mut dyn FnMut(AnimateEvent<'_>)) -> Result<String> {
+        self.check()?;
+        let label = loaded.label.clone();
+        loaded.shade(self.flat_shading)?;
+        shape_timeline(&mut loaded.scene, &label, self.clip.as_deref(), self.fps)?;
+        let timeline = loaded.scene.animation.timeline;
+        let last_frame = timeline.frames - 1;
+        let (first, last) = self.frames.unwrap_or((0, last_frame));
+        if last > last_frame {
+            bail!(
+                "{label}: --frames {first}..{last} goes past the last frame, {last_frame} ({} frames at {} fps)",
+                timeline.frames,
+                timeline.frame_rate
+            );
+        }
+        let (shard, shards) = self.shard.unwrap_or((0, 1));
+        // Refused options and a missing GPU fail before anything is written.
+        let options =
+            RenderOptions { spp: self.spp, seed: self.seed, integrator: self.integrator, ..Default::default() };
+        let fields = Fields::load(&loaded.scene.distance_fields, &label)?;
+        let tracer = match &self.backend.gpu {
+            None => Tracer::cpu(&self.accel, self.update, self.scene_accel, fields),
+            Some(_) if !fields.is_empty() => {
+                bail!("{label}: scenes with `adf` blocks render on the CPU only; drop --backend gpu")
+            }
+            Some(gpu) => {
+                let choice = GpuChoice { options: gpu, build: self.backend.gpu_build, strategy: self.gpu_strategy };
+                Tracer::gpu(&self.accel, self.update, &options, choice).with_context(|| label.clone())?
+            }
+        };
+        let out = &self.out;
+        std::fs::create_dir_all(out).with_context(|| format!("{}: cannot create the output folder", out.display()))?;
+        let mine: Vec<u32> = (first..=last).filter(|k| k % shards == shard).collect();
+        let todo: Vec<u32> = mine.iter().copied().filter(|&k| !(self.resume && frame_path(out, k).is_file())).collect();
+        if todo.len() < mine.len() {
+            events(AnimateEvent::Resuming { done: mine.len() - todo.len(), of: mine.len() });
+        }
+        let timings_name =
+            if shards == 1 { "timings.csv".to_string() } else { format!("timings_shard_{shard}_of_{shards}.csv") };
+        let timings_path = out.join(&timings_name);
+        let mut timings = open_timings(&timings_path, self.resume)?;
+
+        // Built before the loop (sampling and neighbourhoods once); each frame steps it on.
+        let settings = FrameSettings { width: self.width, height: self.height, ..Default::default() };
+        let stage = Stage::new(loaded.scene, &label, settings)?;
+        if let Some(w) = stage.world() {
+            events(AnimateEvent::Physics(&w.describe()));
+        }
+        let mut step = FrameStep::new(stage, tracer);
+        events(AnimateEvent::Started { count: todo.len() });
+        let started = Instant::now();
+        let mut rays_total = 0u64;
+        for &k in &todo {
+            let t = timeline.time_of(k);
+            let t0 = Instant::now();
+            let at_frame = || format!("{label}: frame {k}");
+            let report = step.advance_to(t).with_context(at_frame)?;
+            let t1 = Instant::now();
+            let frame = step.stage.frame();
+            let (film, stats) = step.tracer.render(frame, &options).with_context(at_frame)?;
+            let render_time = t1.elapsed();
+            let to_image = t0.elapsed();
+            write_image(&film, &frame_path(out, k))?;
+            if self.export_meshes {
+                write_obj(frame, &out.join(format!("mesh_{k:04}.obj")))?;
+            }
+            let ms = |d: Duration| d.as_secs_f64() * 1e3;
+            let update = report.update;
+            let ratio = update.cost_ratio.map(|r| format!("{r:.4}")).unwrap_or_default();
+            writeln!(
+                timings,
+                "{k},{t},{:.3},{},{:.3},{ratio},{:.3},{:.3},{}",
+                ms(report.pose),
+                update.action.name(),
+                ms(update.time),
+                ms(render_time),
+                ms(to_image),
+                stats.total_rays()
+            )
+            .and_then(|()| timings.flush())
+            .with_context(|| format!("{}: cannot write", timings_path.display()))?;
+            rays_total += stats.total_rays();
+            events(AnimateEvent::Frame { k, update: update.action.name(), to_image });
+        }
+        let all: Vec<PathBuf> = (first..=last).map(|k| frame_path(out, k)).collect();
+        let preview_note = if all.iter().all(|p| p.is_file()) {
+            let path = out.join("preview.gif");
+            preview::write_gif(&all, timeline.frame_rate, &path)?;
+            format!(", preview {}", path.display())
+        } else {
+            String::new()
+        };
+        Ok(format!(
+            "{label}: {} frames of {first}..={last} ({} triangles, {}), {} rays in {:.2} s -> {}/frame_NNNN.png, {timings_name}{preview_note}",
+            todo.len(),
+            thousands(step.stage.frame().mesh.triangle_count() as u64),
+            step.tracer.describe(),
+            thousands(rays_total),
+            started.elapsed().as_secs_f64(),
+            out.display()
+        ))
+    }
+}
+
+/// The timings file: new (with its header), or appended to when resuming one that has
+/// rows already (rows are written only after their frame's PNG, so none is repeated).
+fn open_timings(path: &Path, resume: bool) -> Result<BufWriter<File>> {
+    let append = resume && path.is_file();
+    let file = if append { OpenOptions::new().append(true).open(path) } else { File::create(path) }
+        .with_context(|| format!("{}: cannot open", path.display()))?;
+    let mut w = BufWriter::new(file);
+    if !append {
+        writeln!(w, "{TIMINGS_HEADER}").with_context(|| format!("{}: cannot write", path.display()))?;
+    }
+    Ok(w)
+}
+
+/// The frame's world-space triangles as OBJ, in the frame's stable order (vertex `i` of
+/// the frame is OBJ vertex `i + 1`), written under a temporary name and renamed. Floats
+/// are printed in Rust's shortest round-trip form, so reading them back gives the same
+/// bits.
+pub fn write_obj(frame: &Frame, path: &Path) -> Result<()> {
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let mut tmp = tempfile::NamedTempFile::new_in(dir).with_context(|| format!("{}: cannot create", dir.display()))?;
+    {
+        let mut w = BufWriter::new(tmp.as_file_mut());
+        writeln!(w, "# dynray animate: frame at t = {} s, {} triangles", frame.time, frame.mesh.triangle_count())?;
+        for p in &frame.mesh.positions {
+            writeln!(w, "v {} {} {}", p[0], p[1], p[2])?;
+        }
+        for t in &frame.mesh.indices {
+            writeln!(w, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1)?;
+        }
+        w.flush()?;
+    }
+    tmp.persist(path).map_err(|e| e.error).with_context(|| format!("{}: cannot write", path.display()))?;
+    Ok(())
+}

@@ -1,0 +1,7 @@
+//! Validated jobs built from plain option structs: each checks every option
+//! combination before any work, then runs through the frame step and the tracer seam.
+
+pub mod animate;
+mod preview;
+pub mod render;
+pub mod trace;
