@@ -340,8 +340,12 @@ fn parse_shard(s: &str) -> Result<(u32, u32), String> {
 #[derive(Args, Debug)]
 pub struct InfoArgs {
     /// Scene, mesh or distance-field (.adf) file.
-    #[arg(required_unless_present = "gpu")]
+    #[arg(required_unless_present_any = ["gpu", "structures"])]
     pub file: Option<PathBuf>,
+    /// List every structure `--accel` names: what it is, its presets, whether its update
+    /// refits and whether the GPU traces it.
+    #[arg(long)]
+    pub structures: bool,
     /// List the GPU adapters (name, driver, the features and limits the kernels use) and
     /// check the chosen one against the CPU; exits 1 when there is none.
     #[arg(long)]

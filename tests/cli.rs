@@ -227,6 +227,20 @@ fn unknown_structure_is_a_usage_error() {
 }
 
 #[test]
+fn info_lists_every_structure_from_the_descriptor_table() {
+    let o = dynray(&["info", "--structures"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8_lossy(&o.stdout);
+    let names: Vec<&str> = text.lines().skip(1).filter_map(|l| l.split_whitespace().next()).collect();
+    let want: Vec<&str> = dynray_accel::AccelKind::ALL.iter().map(|k| k.name()).collect();
+    assert_eq!(names, want, "{text}");
+    // The columns say what the structures do: the BVHs refit and run on the GPU, the kd-tree neither.
+    let row = |name: &str| text.lines().find(|l| l.split_whitespace().next() == Some(name)).unwrap().to_string();
+    assert!(row("bvh2").contains("refit") && row("bvh2").split_whitespace().nth(2) == Some("yes"), "{text}");
+    assert!(row("kdtree").contains("rebuild") && row("kdtree").split_whitespace().nth(2) == Some("no"), "{text}");
+}
+
+#[test]
 fn closed_stdout_pipe_exits_quietly() {
     // `dynray info bunny | head -1`: the reader goes away before dynray writes.
     let mut child = Command::new(env!("CARGO_BIN_EXE_dynray"))
