@@ -4,7 +4,7 @@
 
 use crate::legend::{self, Entry, Swatch};
 use crate::output::{write_atomic, write_png};
-use crate::report::Report;
+use crate::results::SceneResult;
 use anyhow::{anyhow, Result};
 use plotters::coord::ranged1d::{DefaultFormatting, KeyPointHint};
 use plotters::coord::types::RangedCoordf64;
@@ -57,20 +57,34 @@ pub fn series_color(i: usize) -> RGBColor {
     RGBColor(c.0, c.1, c.2)
 }
 
+/// What the standard run's charts draw: its scenes, in the order of its structures and
+/// ray kinds (the report's `scenes` and `config`).
+#[derive(Clone, Copy)]
+pub struct StandardRun<'a> {
+    /// The measured scenes.
+    pub scenes: &'a [SceneResult],
+    /// The structures, in colour order.
+    pub accels: &'a [String],
+    /// The ray kinds, one panel each.
+    pub rays: &'a [String],
+    /// Threads the run used.
+    pub threads: usize,
+}
+
 /// Build time (ms) against triangle count, one series per structure, log–log.
-pub struct BuildVsTriangles<'a>(pub &'a Report);
+pub struct BuildVsTriangles<'a>(pub StandardRun<'a>);
 
 impl Chart for BuildVsTriangles<'_> {
     fn size(&self) -> (u32, u32) {
-        (760 + legend::width(&accel_legend(self.0, Swatch::Line)), 600)
+        (760 + legend::width(&accel_legend(&self.0, Swatch::Line)), 600)
     }
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
-        let entries = accel_legend(self.0, Swatch::Line);
+        let entries = accel_legend(&self.0, Swatch::Line);
         let (root, strip) = root.split_horizontally(root.dim_in_pixel().0.saturating_sub(legend::width(&entries)));
         legend::draw(&strip, &entries, 70)?;
         let root = &root;
-        let scenes = &self.0.scenes;
-        let accels: Vec<String> = self.0.config.accels.clone();
+        let scenes = self.0.scenes;
+        let accels: Vec<String> = self.0.accels.to_vec();
         let pts = |a: &str| -> Vec<(f64, f64)> {
             scenes
                 .iter()
@@ -111,25 +125,25 @@ impl Chart for BuildVsTriangles<'_> {
 }
 
 /// Mrays/s per structure and scene: one panel per ray kind, grouped bars.
-pub struct MraysChart<'a>(pub &'a Report);
+pub struct MraysChart<'a>(pub StandardRun<'a>);
 
 impl Chart for MraysChart<'_> {
     /// One full-width panel per ray kind, so each scene's group of bars has room for its
     /// name (two columns of panels crowded eight scene names into overlapping labels).
     fn size(&self) -> (u32, u32) {
-        let rows = self.0.config.rays.len().max(1) as u32;
-        (1260 + legend::width(&accel_legend(self.0, Swatch::Bar)), 60 + 320 * rows)
+        let rows = self.0.rays.len().max(1) as u32;
+        (1260 + legend::width(&accel_legend(&self.0, Swatch::Bar)), 60 + 320 * rows)
     }
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
-        let r = self.0;
+        let r = &self.0;
         let title = format!("Throughput (Mrays/s, {} threads, higher is better)", r.threads);
         let root = root.titled(&title, ("sans-serif", 26)).map_err(err)?;
         let entries = accel_legend(r, Swatch::Bar);
         let (root, strip) = root.split_horizontally(root.dim_in_pixel().0.saturating_sub(legend::width(&entries)));
         legend::draw(&strip, &entries, 50)?;
-        let kinds = &r.config.rays;
+        let kinds = r.rays;
         let panels = root.split_evenly((kinds.len().max(1), 1));
-        let accels = &r.config.accels;
+        let accels = r.accels;
         let ns = r.scenes.len().max(1);
         let names: Vec<String> = r.scenes.iter().map(|s| s.name.clone()).collect();
         for (kind, area) in kinds.iter().zip(panels.iter()) {
@@ -182,9 +196,9 @@ impl Chart for MraysChart<'_> {
 }
 
 /// The run's structures, in colour order, as legend entries.
-fn accel_legend(r: &Report, swatch: Swatch) -> Vec<Entry> {
+fn accel_legend(r: &StandardRun<'_>, swatch: Swatch) -> Vec<Entry> {
     let e = |(i, a): (usize, &String)| Entry { name: a.clone(), color: series_color(i), swatch };
-    r.config.accels.iter().enumerate().map(e).collect()
+    r.accels.iter().enumerate().map(e).collect()
 }
 
 /// A linear `f64` axis whose ticks are given: labels sit exactly at a sweep's values or at

@@ -32,3 +32,11 @@ pub fn num(v: f64) -> String {
         format!("{v:.3}")
     }
 }
+
+/// `value (ratio)` where a ratio ours/theirs (or GPU/CPU) is known.
+pub fn with_ratio(v: String, ratio: Option<f64>) -> String {
+    match ratio {
+        Some(r) => format!("{v} ({}×)", num(r)),
+        None => v,
+    }
+}

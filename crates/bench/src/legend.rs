@@ -2,7 +2,6 @@
 //! hides the lines or bars under it, and a margin reserved inside the axis range (the
 //! first version) left a stretch of empty axis that read as missing data.
 
-use crate::charts::err;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -49,18 +48,19 @@ pub fn draw<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, entries: &[Entry]
         let c = e.color;
         match e.swatch {
             Swatch::Line => {
-                area.draw(&PathElement::new(vec![(x0, y), (x1, y)], c.stroke_width(3))).map_err(err)?;
-                area.draw(&Circle::new(((x0 + x1) / 2, y), 3, c.filled())).map_err(err)?;
+                area.draw(&PathElement::new(vec![(x0, y), (x1, y)], c.stroke_width(3))).map_err(|e| e.to_string())?;
+                area.draw(&Circle::new(((x0 + x1) / 2, y), 3, c.filled())).map_err(|e| e.to_string())?;
             }
             Swatch::Reference => {
-                area.draw(&PathElement::new(vec![(x0, y), (x1, y)], c.stroke_width(1))).map_err(err)?;
+                area.draw(&PathElement::new(vec![(x0, y), (x1, y)], c.stroke_width(1))).map_err(|e| e.to_string())?;
             }
             Swatch::Bar => {
-                area.draw(&Rectangle::new([(x0 + 6, y - 7), (x1 - 6, y + 7)], c.filled())).map_err(err)?;
+                area.draw(&Rectangle::new([(x0 + 6, y - 7), (x1 - 6, y + 7)], c.filled()))
+                    .map_err(|e| e.to_string())?;
             }
         }
-        let text_h = area.estimate_text_size(&e.name, &font).map_err(err)?.1 as i32;
-        area.draw(&Text::new(e.name.clone(), (x1 + 8, y - text_h / 2), font.clone())).map_err(err)?;
+        let text_h = area.estimate_text_size(&e.name, &font).map_err(|e| e.to_string())?.1 as i32;
+        area.draw(&Text::new(e.name.clone(), (x1 + 8, y - text_h / 2), font.clone())).map_err(|e| e.to_string())?;
     }
     Ok(())
 }

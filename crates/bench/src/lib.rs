@@ -25,6 +25,7 @@ pub mod presets;
 pub mod progress;
 pub mod rays;
 pub mod report;
+pub mod results;
 pub mod run;
 pub mod scenes;
 pub mod variant;

@@ -1,6 +1,17 @@
 //! Facts about the run for the report header: CPU model, git commit, UTC time.
 
-use crate::report::Machine;
+use serde::{Deserialize, Serialize};
+
+/// The machine.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Machine {
+    /// CPU model from /proc/cpuinfo (or "unknown").
+    pub cpu: String,
+    /// Logical cores the OS reports.
+    pub logical_cores: usize,
+    /// `std::env::consts::OS` / `ARCH`.
+    pub os: String,
+}
 use std::time::{SystemTime, UNIX_EPOCH};
 
 /// The machine the bench runs on.

@@ -1,21 +1,23 @@
 //! `report.md`: the header (version, commit, CPU, threads, date) and one table per scene,
 //! one row per structure, then the presets' tables.
 
-use crate::format::{bytes, num, thousands};
+use crate::format::{bytes, num, thousands, with_ratio};
+use crate::presets::dynamic::Dynamic;
+use crate::presets::experiment::markdown_of;
+use crate::presets::path::PathTracer;
+use crate::presets::seed000::Seed000;
+use crate::presets::seed000_physics::Seed000PhysicsRun;
+use crate::presets::seed001::Seed001;
+use crate::presets::seed002::Seed002;
+use crate::presets::seed003::Seed003;
+use crate::presets::seed004::Seed004;
+use crate::presets::seed004_renderers::Seed004RenderersRun;
 use crate::report::Report;
 use std::fmt::Write;
 
-/// `value (ratio)` where a ratio ours/theirs (or GPU/CPU) is known.
-pub(crate) fn with_ratio(v: String, ratio: Option<f64>) -> String {
-    match ratio {
-        Some(r) => format!("{v} ({}×)", num(r)),
-        None => v,
-    }
-}
-
 /// The "Side by side" tables of a scene (feature `compare`): our reference structure, then
 /// every competitor with its figures and, in brackets, ours/theirs (> 1: ours is better).
-fn side_by_side(s: &mut String, sc: &crate::report::SceneResult, rays: &[String]) {
+fn side_by_side(s: &mut String, sc: &crate::results::SceneResult, rays: &[String]) {
     if sc.competitors.is_empty() {
         return;
     }
@@ -246,84 +248,15 @@ pub fn render(r: &Report, png: bool) -> String {
         let _ = writeln!(s, "![build time vs triangles](build-vs-triangles.{ext})\n\n![Mrays/s](mrays.{ext})\n");
     }
 
-    if let Some(p) = &r.seed000 {
-        crate::presets::seed000::markdown(p, png, &mut s);
-    }
-    if let Some(p) = &r.seed000_physics {
-        crate::presets::seed000_physics::markdown(p, png, &mut s);
-    }
-    if let Some(p) = &r.seed001 {
-        crate::presets::seed001::markdown(p, &mut s);
-    }
-    if let Some(p) = &r.seed002 {
-        crate::presets::seed002::markdown(p, &mut s);
-    }
-    if let Some(p) = &r.seed004 {
-        crate::presets::seed004::markdown(p, png, &mut s);
-    }
-    if let Some(p) = &r.seed004_renderers {
-        crate::presets::seed004_renderers::markdown(p, png, &mut s);
-    }
-    if let Some(p) = &r.seed003 {
-        crate::presets::seed003::markdown(p, png, &mut s);
-    }
-    if let Some(p) = &r.path {
-        crate::presets::path::markdown(p, png, &mut s);
-    }
+    markdown_of::<Seed000>(&r.seed000, png, &mut s);
+    markdown_of::<Seed000PhysicsRun>(&r.seed000_physics, png, &mut s);
+    markdown_of::<Seed001>(&r.seed001, png, &mut s);
+    markdown_of::<Seed002>(&r.seed002, png, &mut s);
+    markdown_of::<Seed004>(&r.seed004, png, &mut s);
+    markdown_of::<Seed004RenderersRun>(&r.seed004_renderers, png, &mut s);
+    markdown_of::<Seed003>(&r.seed003, png, &mut s);
+    markdown_of::<PathTracer>(&r.path, png, &mut s);
 
-    if let Some(d) = &r.dynamic {
-        let _ = writeln!(
-            s,
-            "## Preset dynamic — geometry moves each frame ({} frames, {}×{})\n\n\
-             Medians over the frames. *motion*: `wave` deforms every vertex of a still model, `animation` \
-             plays the file's own. *update* is the structure's `update` (a refit where it has one); \
-             *rebuild* a full build; time to image = update + Whitted render; *refit/fresh* the refit \
-             tree's primary trace time and SAH cost over a fresh build's on the same frame (last frame).\n\n\
-             | scene | motion | triangles | structure | rebuild ms | update ms | primary trace ms | time to image ms | Mrays/s frame 1 → last | refit/fresh trace, SAH | checked |\n\
-             |---|---|--:|---|--:|--:|--:|--:|--:|--:|--:|",
-            d.frames, d.width, d.height
-        );
-        for run in &d.runs {
-            let _ = writeln!(
-                s,
-                "| {} | {} | {} | {} | {} | {} | {} | {} | {} → {} | {} | {} |",
-                run.scene,
-                run.motion,
-                thousands(run.triangles as u64),
-                run.accel,
-                num(run.median_rebuild_ms),
-                num(run.median_update_ms),
-                num(run.median_trace_ms),
-                num(run.median_time_to_image_ms),
-                num(run.first_frame_mrays_per_s),
-                num(run.last_frame_mrays_per_s),
-                drift(run),
-                thousands(run.verified as u64)
-            );
-        }
-        let ext = if png { "png" } else { "svg" };
-        let _ = writeln!(s, "\n![dynamic](dynamic.{ext})\n");
-        if d.runs.iter().any(|r| r.refits) {
-            let _ = writeln!(s, "![refit drift](dynamic-drift.{ext})\n");
-        }
-        if !d.layouts.is_empty() {
-            crate::presets::dynamic_layouts::markdown(&d.layouts, &mut s);
-            let _ = writeln!(s, "\n![scene layouts](dynamic-layouts.{ext})\n");
-        }
-    }
+    markdown_of::<Dynamic>(&r.dynamic, png, &mut s);
     s
-}
-
-/// The last frame's refit-over-fresh trace time and SAH cost of a refitting run
-/// (`—` for structures that rebuild).
-fn drift(run: &crate::report::DynamicRun) -> String {
-    if !run.refits {
-        return "—".into();
-    }
-    let trace = match (run.trace_ms.last(), run.fresh_trace_ms.last()) {
-        (Some(&t), Some(&f)) if f > 0.0 => format!("{:.2}", t / f),
-        _ => "—".into(),
-    };
-    let sah = run.sah_ratio.last().map_or("—".into(), |r| format!("{r:.2}"));
-    format!("{trace}, {sah}")
 }

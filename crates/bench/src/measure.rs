@@ -2,7 +2,7 @@
 //! kind, the check against brute force, and the time to image of a Whitted render.
 
 use crate::rays::{RayKind, RaySets};
-use crate::report::{median, KindResult, Mismatch, StructureResult, Work};
+use crate::results::{median, KindResult, Mismatch, StructureResult, Work};
 use anyhow::{Context, Result};
 use dynray_accel::AccelSpec;
 use dynray_accel::{Accel, BatchQuery, Coherent, TraversalCounts};
@@ -313,7 +313,7 @@ pub fn measure_kind<Q: BatchQuery + ?Sized>(
     (result, counted.work)
 }
 
-/// The kind name of [`crate::report::StructureResult::primary_packets`].
+/// The kind name of [`crate::results::StructureResult::primary_packets`].
 pub const PRIMARY_PACKET: &str = "primary-packet";
 
 /// The primary rays through `accel`'s packet path ([`Coherent`]), measured and checked

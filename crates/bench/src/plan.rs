@@ -9,7 +9,7 @@ use crate::heatmap;
 use crate::measure::{measure, oracle, MeasureInput};
 use crate::progress::progress_bar;
 use crate::rays::{self, RayKind};
-use crate::report::{KindCount, Mismatch, SceneResult};
+use crate::results::{KindCount, Mismatch, SceneResult};
 use crate::scenes::load_scenes;
 use anyhow::{Context, Result};
 use dynray_accel::AccelSpec;

@@ -3,8 +3,20 @@
 use crate::config::{BenchConfig, Preset};
 use crate::gpu::GpuSession;
 use crate::plan::{measure_scenes, SceneMeasure};
-use crate::report::{ConfigEcho, Mismatch, Report, SCHEMA_VERSION};
-use crate::{charts, fonts, machine, markdown, output, presets};
+use crate::presets::dynamic::Dynamic;
+use crate::presets::experiment::{charts_of, run_if_asked, Lab};
+use crate::presets::path::PathTracer;
+use crate::presets::seed000::Seed000;
+use crate::presets::seed000_physics::Seed000PhysicsRun;
+use crate::presets::seed001::Seed001;
+use crate::presets::seed002::Seed002;
+use crate::presets::seed003::Seed003;
+use crate::presets::seed004::Seed004;
+use crate::presets::seed004_renderers::Seed004RenderersRun;
+use crate::report::{ConfigEcho, Report, SCHEMA_VERSION};
+use crate::results::Mismatch;
+use crate::results::SceneResult;
+use crate::{charts, fonts, machine, markdown, output};
 use anyhow::{Context, Result};
 use dynray_accel::AccelSpec;
 use std::path::Path;
@@ -20,6 +32,26 @@ pub fn run(config: &BenchConfig) -> Result<Report> {
     std::fs::create_dir_all(&config.out).with_context(|| format!("cannot create {}", config.out.display()))?;
     let accels = config.accels_or_default();
     let started = machine::now_utc();
+    let mut mismatches = Vec::new();
+    let mut notes = gpu.as_ref().map(GpuSession::notes).unwrap_or_default();
+    let gpu_info = gpu.as_ref().map(GpuSession::info);
+    let scenes = if config.presets.contains(&Preset::Standard) {
+        standard(config, &accels, gpu.as_mut(), &mut mismatches, &mut notes)?
+    } else {
+        Vec::new()
+    };
+    let mut lab = Lab { config, accels: &accels, gpu: gpu.as_mut(), mismatches: &mut mismatches, notes: &mut notes };
+    // In the order `--preset all` has always run them (report.json's figures do not
+    // depend on it, but the time of each preset in a long run does).
+    let seed000 = run_if_asked::<Seed000>(&mut lab)?;
+    let seed000_physics = run_if_asked::<Seed000PhysicsRun>(&mut lab)?;
+    let seed001 = run_if_asked::<Seed001>(&mut lab)?;
+    let seed002 = run_if_asked::<Seed002>(&mut lab)?;
+    let seed004 = run_if_asked::<Seed004>(&mut lab)?;
+    let seed004_renderers = run_if_asked::<Seed004RenderersRun>(&mut lab)?;
+    let seed003 = run_if_asked::<Seed003>(&mut lab)?;
+    let dynamic = run_if_asked::<Dynamic>(&mut lab)?;
+    let path = run_if_asked::<PathTracer>(&mut lab)?;
     let mut report = Report {
         schema: SCHEMA_VERSION,
         dynray_version: env!("CARGO_PKG_VERSION").to_string(),
@@ -39,71 +71,33 @@ pub fn run(config: &BenchConfig) -> Result<Report> {
             presets: config.presets.iter().map(|p| p.name().to_string()).collect(),
             framing: config.framing.name().to_string(),
         },
-        scenes: Vec::new(),
-        seed000: None,
-        seed000_physics: None,
-        seed001: None,
-        seed002: None,
-        seed003: None,
-        seed004: None,
-        seed004_renderers: None,
-        dynamic: None,
-        path: None,
-        gpu: None,
-        mismatches: Vec::new(),
-        notes: Vec::new(),
+        scenes,
+        seed000,
+        seed000_physics,
+        seed001,
+        seed002,
+        seed003,
+        seed004,
+        seed004_renderers,
+        dynamic,
+        path,
+        gpu: gpu_info,
+        mismatches,
+        notes,
     };
-    if let Some(g) = &gpu {
-        report.gpu = Some(g.info());
-        report.notes.extend(g.notes());
-    }
-    if config.presets.contains(&Preset::Standard) {
-        standard(config, &accels, gpu.as_mut(), &mut report)?;
-    }
-    if config.presets.contains(&Preset::Seed000) {
-        let mut r =
-            presets::study::run(config, &presets::seed000::study(config), &mut report.mismatches, &mut report.notes)?;
-        r.ratios = presets::seed000::ratios(&r);
-        report.seed000 = Some(r);
-        report.seed000_physics = Some(presets::seed000_physics::run(config, &mut report.mismatches)?);
-    }
-    if config.presets.contains(&Preset::Seed001) {
-        report.seed001 = Some(presets::seed001::run(config, gpu.as_ref(), &mut report.notes)?);
-    }
-    if config.presets.contains(&Preset::Seed002) {
-        let mut r =
-            presets::study::run(config, &presets::seed002::study(config), &mut report.mismatches, &mut report.notes)?;
-        r.ratios = presets::seed002::ratios(&r);
-        report.seed002 = Some(r);
-    }
-    if config.presets.contains(&Preset::Seed004) {
-        let mut r =
-            presets::study::run(config, &presets::seed004::study(config), &mut report.mismatches, &mut report.notes)?;
-        r.ratios = presets::seed004::ratios(&r);
-        report.seed004 = Some(r);
-        report.seed004_renderers = Some(presets::seed004_renderers::run(config, &mut report.mismatches)?);
-    }
-    if config.presets.contains(&Preset::Seed003) {
-        report.seed003 =
-            Some(presets::seed003::run(config, &accels, gpu.as_mut(), &mut report.notes, &mut report.mismatches)?);
-    }
-    if config.presets.contains(&Preset::Dynamic) {
-        report.dynamic = Some(presets::dynamic::run(config, &accels, &mut report.mismatches)?);
-    }
-    if config.presets.contains(&Preset::Path) {
-        report.path = Some(presets::path::run(config, &mut report.mismatches)?);
-    }
     report.finished_utc = machine::now_utc();
     write_outputs(config, &report)?;
     Ok(report)
 }
 
+/// The standard measurements: every scene × structure.
 fn standard(
     config: &BenchConfig,
     accels: &[AccelSpec],
     gpu: Option<&mut GpuSession>,
-    report: &mut Report,
-) -> Result<()> {
+    mismatches: &mut Vec<Mismatch>,
+    notes: &mut Vec<String>,
+) -> Result<Vec<SceneResult>> {
     let plan: Vec<(String, Vec<AccelSpec>)> =
         config.standard_scenes().into_iter().map(|n| (n, accels.to_vec())).collect();
     let how = SceneMeasure {
@@ -117,8 +111,7 @@ fn standard(
         competitors: true,
         framing: config.framing,
     };
-    report.scenes = measure_scenes(config, &plan, &how, gpu, &mut report.mismatches, &mut report.notes)?;
-    Ok(())
+    measure_scenes(config, &plan, &how, gpu, mismatches, notes)
 }
 
 /// Draws the charts and writes report.md again from `dir/report.json` (measuring
@@ -152,38 +145,21 @@ fn write_outputs(config: &BenchConfig, report: &Report) -> Result<()> {
 fn write_charts(config: &BenchConfig, report: &Report) -> Result<()> {
     let out = &config.out;
     if !report.scenes.is_empty() {
-        charts::save(&charts::BuildVsTriangles(report), out, "build-vs-triangles", config.png)?;
-        charts::save(&charts::MraysChart(report), out, "mrays", config.png)?;
+        let c = &report.config;
+        let run =
+            charts::StandardRun { scenes: &report.scenes, accels: &c.accels, rays: &c.rays, threads: report.threads };
+        charts::save(&charts::BuildVsTriangles(run), out, "build-vs-triangles", config.png)?;
+        charts::save(&charts::MraysChart(run), out, "mrays", config.png)?;
     }
-    if let Some(d) = &report.dynamic {
-        charts::save(&presets::dynamic::chart(d), out, "dynamic", config.png)?;
-        if !d.layouts.is_empty() {
-            let c = presets::dynamic_layouts::chart(&d.layouts, d.width, d.height);
-            charts::save(&c, out, "dynamic-layouts", config.png)?;
-        }
-        if d.runs.iter().any(|r| r.refits) {
-            charts::save(&presets::dynamic::drift_chart(d), out, "dynamic-drift", config.png)?;
-        }
-    }
-    if let Some(s) = &report.seed003 {
-        charts::save(&presets::seed003::chart(s), out, "seed003-speedup", config.png)?;
-    }
-    if let Some(p) = &report.seed000_physics {
-        charts::save(&presets::seed000_physics::chart(p), out, "seed000-physics", config.png)?;
-    }
-    if let Some(s) = &report.seed000 {
-        charts::save(&presets::seed000::sweep_chart(s), out, "seed000-sweep", config.png)?;
-        charts::save(&presets::seed000::memory_chart(s), out, "seed000-memory", config.png)?;
-    }
-    if let Some(s) = &report.seed004 {
-        charts::save(&presets::seed004::chart(s), out, "seed004-speedup", config.png)?;
-    }
-    if let Some(r) = &report.seed004_renderers {
-        charts::save(&presets::seed004_renderers::chart(r), out, "seed004-convergence", config.png)?;
-    }
-    if let Some(r) = &report.path {
-        charts::save(&presets::path::chart(r), out, "path-convergence", config.png)?;
-    }
+    charts_of::<Seed000>(&report.seed000, out, config.png)?;
+    charts_of::<Seed000PhysicsRun>(&report.seed000_physics, out, config.png)?;
+    charts_of::<Seed001>(&report.seed001, out, config.png)?;
+    charts_of::<Seed002>(&report.seed002, out, config.png)?;
+    charts_of::<Seed003>(&report.seed003, out, config.png)?;
+    charts_of::<Seed004>(&report.seed004, out, config.png)?;
+    charts_of::<Seed004RenderersRun>(&report.seed004_renderers, out, config.png)?;
+    charts_of::<Dynamic>(&report.dynamic, out, config.png)?;
+    charts_of::<PathTracer>(&report.path, out, config.png)?;
     Ok(())
 }
 

@@ -7,7 +7,7 @@ pub mod obvhs;
 
 use crate::measure::{ms, timed_pass, Expected};
 use crate::rays::{RayKind, RaySets};
-use crate::report::{median, CompetitorKind, CompetitorResult, StructureResult};
+use crate::results::{median, CompetitorKind, CompetitorResult, StructureResult};
 use anyhow::{Context, Result};
 use dynray_accel::batch::check_batch_lengths;
 use dynray_accel::{BatchQuery, BATCH_CHUNK};

@@ -1,15 +1,38 @@
 //! `--backend gpu` (docs/bench.md, "On the GPU"): one device opened for the whole run,
 //! the GPU backend measured on the standard run's rays ([`standard`]) and seed 003's
-//! strategies and builders timed against the CPU (`presets::seed003_gpu`).
+//! strategies and builders timed against the CPU (`presets::seed003::strategies`).
 
 pub mod standard;
 
 use crate::config::GpuBench;
-use crate::report::GpuInfo;
 use anyhow::{Context, Result};
 use dynray_accel::{AccelKind, AccelSpec, BvhParams};
 use dynray_gpu::{GpuBuild, GpuContext, GpuRenderer, Precision};
+use serde::{Deserialize, Serialize};
 use std::sync::Arc;
+
+/// The adapter of a `--backend gpu` run.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct GpuInfo {
+    /// Device name.
+    pub adapter: String,
+    /// Graphics API (Vulkan).
+    pub backend: String,
+    /// Discrete, integrated, virtual or CPU (software).
+    pub device_type: String,
+    /// Driver name and version.
+    pub driver: String,
+    /// `f64` (hits equal brute force's bit for bit) or `f32` (docs/gpu.md's rule).
+    pub precision: String,
+    /// True for a software device (lavapipe): a CPU emulating a GPU, whose figures rank
+    /// the strategies but are no GPU's speed.
+    pub software: bool,
+    /// Where the standard run's device tree was built: `cpu` (built there, uploaded),
+    /// `sah` or `lbvh`.
+    pub build: String,
+    /// Per-stage GPU times come from timestamp queries (false: wall clock per stage).
+    pub timestamps: bool,
+}
 
 /// The device of a `--backend gpu` run, with one renderer (its kernels compiled once).
 pub struct GpuSession {

@@ -4,10 +4,9 @@
 //! figures a CPU structure gets, in the same [`StructureResult`] shape.
 
 use super::{bvh_params, GpuSession};
-use crate::format::{bytes, num, thousands};
-use crate::markdown::with_ratio;
+use crate::format::{bytes, num, thousands, with_ratio};
 use crate::measure::{measure_kind, ms, warm_then_timed, MeasureInput};
-use crate::report::{median, Mismatch, SceneResult, StructureResult};
+use crate::results::{median, Mismatch, SceneResult, StructureResult};
 use anyhow::{Context, Result};
 use dynray_accel::{Accel, AccelSpec, BvhParams};
 use dynray_gpu::{BuildTimings, GpuBvh, GpuRenderOptions, GpuStrategy};

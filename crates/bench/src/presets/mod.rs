@@ -3,15 +3,13 @@
 //! tracer's measurements.
 
 pub mod dynamic;
-pub mod dynamic_layouts;
+pub mod experiment;
 pub mod path;
 pub mod seed000;
 pub mod seed000_physics;
 pub mod seed001;
 pub mod seed002;
 pub mod seed003;
-pub mod seed003_gpu;
-pub mod seed003_sweeps;
 pub mod seed004;
 pub mod seed004_renderers;
 pub mod study;

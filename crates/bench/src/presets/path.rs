@@ -13,19 +13,117 @@
 //!   seconds per sample (same machine class, `scalar_rgb`, both cores). dynray's RMSE
 //!   includes the reference's own noise, so the estimate adds it to Mitsuba's too.
 
+use super::experiment::{Experiment, Lab};
 use crate::config::BenchConfig;
 use crate::line_chart::{LineChart, Panel, Series};
 use crate::measure::ms;
 use crate::progress::progress_bar;
-use crate::report::{Mismatch, MitsubaFigures, PathConvergencePoint, PathResult, PathRun, PathScene};
+use crate::results::Mismatch;
 use crate::scenes::scenes_dir;
 use anyhow::{bail, Context, Result};
 use dynray_accel::{Accel, AccelSpec};
 use dynray_render::{render, Film, IntegratorKind, RenderOptions};
 use dynray_scene::{load_file, Color};
+use serde::{Deserialize, Serialize};
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+
+/// `--preset path`: the path tracer's speed per structure and its convergence towards
+/// Mitsuba 3's references (`presets::path`).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct PathResult {
+    /// One entry per reference scene.
+    pub scenes: Vec<PathScene>,
+}
+
+/// The path tracer on one reference scene.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct PathScene {
+    /// Reference name (`sphere_d2`, ...).
+    pub name: String,
+    /// The Mitsuba XML rendered.
+    pub xml: String,
+    /// Its triangles (dynray tessellates Mitsuba's analytic sphere).
+    pub triangles: usize,
+    /// Image width (the reference's).
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Mitsuba's `max_depth` (path segments).
+    pub max_depth: u32,
+    /// Samples per pixel of the per-structure runs.
+    pub spp: u32,
+    /// One entry per structure.
+    pub runs: Vec<PathRun>,
+    /// RMSE against the reference after each sample per pixel (first structure's run).
+    pub convergence: Vec<PathConvergencePoint>,
+    /// Mitsuba's own figures for its reference, from `reference/stats.json`.
+    pub mitsuba: MitsubaFigures,
+}
+
+/// The path tracer over one structure at a fixed sample count.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct PathRun {
+    /// `--accels` spelling.
+    pub accel: String,
+    /// Build, ms.
+    pub build_ms: f64,
+    /// Render, median, ms.
+    pub render_ms: f64,
+    /// Camera samples per second (pixels × spp / render time).
+    pub samples_per_s: f64,
+    /// Every ray sent to the structure (camera, shadow, bounce) per second, millions.
+    pub mrays_per_s: f64,
+    /// Rays of one render.
+    pub rays: u64,
+    /// RMSE of the image against the reference.
+    pub rmse: f64,
+    /// Whether the image equals the first structure's, bit for bit.
+    pub image_identical: bool,
+}
+
+/// The error after some samples per pixel, and when it was reached.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize)]
+pub struct PathConvergencePoint {
+    /// Samples per pixel accumulated.
+    pub spp: u32,
+    /// Render time until then, ms.
+    pub ms: f64,
+    /// RMSE over every channel against the reference.
+    pub rmse: f64,
+    /// Time Mitsuba 3 needs for the same RMSE, ms, estimated from its reference's time and
+    /// noise (null where the RMSE is below what that estimate can reach).
+    pub mitsuba_ms: Option<f64>,
+}
+
+/// What `reference/stats.json` says of Mitsuba's reference render.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize)]
+pub struct MitsubaFigures {
+    /// Samples per pixel of the reference.
+    pub spp: u32,
+    /// Its render time, s (Mitsuba 3, `scalar_rgb`, same machine class).
+    pub render_s: f64,
+    /// Root-mean-square per-pixel standard deviation at that spp, over the channels.
+    pub rms_pixel_std: f64,
+}
+
+impl MitsubaFigures {
+    /// Mitsuba's expected RMSE after `spp` samples against an independent reference like
+    /// its own: pixel noise falls as 1/√spp, and the reference adds its own.
+    pub fn rmse_at(&self, spp: f64) -> f64 {
+        let s2 = self.rms_pixel_std.powi(2);
+        (s2 * self.spp as f64 / spp + s2).sqrt()
+    }
+
+    /// The time, ms, at which Mitsuba reaches `rmse` (inverse of [`Self::rmse_at`] at its
+    /// measured seconds per sample); `None` at or below the reference's own noise.
+    pub fn ms_for(&self, rmse: f64) -> Option<f64> {
+        let s2 = self.rms_pixel_std.powi(2);
+        let excess = rmse * rmse - s2;
+        (excess > 0.0 && s2 > 0.0).then(|| self.render_s * 1e3 * (s2 / excess))
+    }
+}
 
 /// The structures measured unless `--accels` names others.
 pub const DEFAULT_STRUCTURES: [&str; 4] = ["bvh", "bvh2", "bih", "kdtree"];
@@ -300,5 +398,25 @@ pub fn chart(r: &PathResult) -> LineChart {
         log_y: true,
         y_from_zero: false,
         panels,
+    }
+}
+
+/// `--preset path`: the path tracer against Mitsuba 3's references.
+pub struct PathTracer;
+
+impl Experiment for PathTracer {
+    const PRESET: crate::config::Preset = crate::config::Preset::Path;
+    type Output = PathResult;
+
+    fn run(ctx: &mut Lab<'_>) -> anyhow::Result<PathResult> {
+        run(ctx.config, ctx.mismatches)
+    }
+
+    fn markdown(out: &PathResult, png: bool, s: &mut String) {
+        markdown(out, png, s)
+    }
+
+    fn charts(out: &PathResult, dir: &std::path::Path, png: bool) -> anyhow::Result<()> {
+        crate::charts::save(&chart(out), dir, "path-convergence", png).map(drop)
     }
 }

@@ -9,12 +9,14 @@
 //! build: shrink factor 1.3, no empty-space cuts); "shrink off" is
 //! `BihParams::wachter_keller` (the node box only ever halves).
 
+use super::experiment::{Experiment, Lab};
 use super::study::{self, param, ratio, Metric, Study};
 use crate::config::BenchConfig;
 use crate::format::{bytes, num, thousands};
 use crate::line_chart::{LineChart, Panel, Series};
+use crate::presets::study::{Ratio, StudyResult};
 use crate::rays::RayKind;
-use crate::report::{Ratio, SceneResult, StructureResult, StudyResult};
+use crate::results::{SceneResult, StructureResult};
 use std::fmt::Write;
 
 /// The seed's MaxPrims values.
@@ -195,6 +197,30 @@ pub fn memory_chart(r: &StudyResult) -> LineChart {
             series("kd-tree Standard", level(sc, KD, mib), true),
         ]
     })
+}
+
+/// `--preset seed000`: the study, its ratios, its section and charts.
+pub struct Seed000;
+
+impl Experiment for Seed000 {
+    const PRESET: crate::config::Preset = crate::config::Preset::Seed000;
+    type Output = StudyResult;
+
+    fn run(ctx: &mut Lab<'_>) -> anyhow::Result<StudyResult> {
+        let mut r = super::study::run(ctx.config, &study(ctx.config), ctx.mismatches, ctx.notes)?;
+        r.ratios = ratios(&r);
+        Ok(r)
+    }
+
+    fn markdown(out: &StudyResult, png: bool, s: &mut String) {
+        markdown(out, png, s)
+    }
+
+    fn charts(out: &StudyResult, dir: &std::path::Path, png: bool) -> anyhow::Result<()> {
+        crate::charts::save(&sweep_chart(out), dir, "seed000-sweep", png)?;
+        crate::charts::save(&memory_chart(out), dir, "seed000-memory", png)?;
+        Ok(())
+    }
 }
 
 #[cfg(test)]

@@ -14,22 +14,70 @@
 //! into the frame (`World::write_into`). The simulation runs once; every structure sees
 //! the same frames.
 
+use super::experiment::{Experiment, Lab};
 use crate::config::BenchConfig;
 use crate::format::thousands;
 use crate::line_chart::{LineChart, Panel, Series};
 use crate::measure::{ms, oracle, timed_pass, verify};
 use crate::progress::progress_bar;
 use crate::rays::{self, RayKind, RaySets};
-use crate::report::{median, Mismatch, PhysicsRun, Seed000Physics};
+use crate::results::{median, Mismatch};
 use crate::scenes::{resolve, scenes_dir};
 use anyhow::{Context, Result};
 use dynray_accel::{Accel, AccelSpec, Brute};
 use dynray_engine::{FrameSettings, Stage};
 use dynray_render::{render, RenderOptions};
 use dynray_scene::Frame;
+use serde::{Deserialize, Serialize};
 use std::fmt::Write;
 use std::hint::black_box;
 use std::time::Instant;
+
+/// `--preset seed000`'s dynamic scenario (`presets::seed000_physics`).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Seed000Physics {
+    /// Triangles of the frame (the bunny and the floor).
+    pub triangles: usize,
+    /// Phyxels of the elastic body.
+    pub phyxels: usize,
+    /// The world in words (bodies, pairs, steps per frame).
+    pub world: String,
+    /// Frames simulated and rendered.
+    pub frames: usize,
+    /// Frames per second of simulated time.
+    pub frame_rate: u32,
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Simulation time per frame, ms (once; shared by every structure).
+    pub physics_ms: Vec<f64>,
+    /// One entry per structure.
+    pub runs: Vec<PhysicsRun>,
+}
+
+/// One structure following the deforming mesh.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct PhysicsRun {
+    /// `--accels` spelling.
+    pub accel: String,
+    /// True: refitted each frame (`update`); false: rebuilt from scratch.
+    pub refit: bool,
+    /// Rebuild or refit per frame, ms.
+    pub update_ms: Vec<f64>,
+    /// Primary trace per frame, ms.
+    pub trace_ms: Vec<f64>,
+    /// Whitted render per frame, ms.
+    pub render_ms: Vec<f64>,
+    /// Physics + update + render per frame, ms.
+    pub time_to_image_ms: Vec<f64>,
+    /// Sum of `time_to_image_ms`.
+    pub total_time_to_image_ms: f64,
+    /// Median of `time_to_image_ms`.
+    pub median_time_to_image_ms: f64,
+    /// Primary rays checked against brute force over all frames.
+    pub verified: usize,
+}
 
 /// Primary rays per frame checked against brute force.
 const VERIFY_PER_FRAME: usize = 256;
@@ -244,6 +292,26 @@ pub fn chart(p: &Seed000Physics) -> LineChart {
             title: format!("bunny, {} triangles, {} phyxels", thousands(p.triangles as u64), p.phyxels),
             series,
         }],
+    }
+}
+
+/// `--preset seed000`'s dynamic scenario: the physics run.
+pub struct Seed000PhysicsRun;
+
+impl Experiment for Seed000PhysicsRun {
+    const PRESET: crate::config::Preset = crate::config::Preset::Seed000;
+    type Output = Seed000Physics;
+
+    fn run(ctx: &mut Lab<'_>) -> anyhow::Result<Seed000Physics> {
+        run(ctx.config, ctx.mismatches)
+    }
+
+    fn markdown(out: &Seed000Physics, png: bool, s: &mut String) {
+        markdown(out, png, s)
+    }
+
+    fn charts(out: &Seed000Physics, dir: &std::path::Path, png: bool) -> anyhow::Result<()> {
+        crate::charts::save(&chart(out), dir, "seed000-physics", png).map(drop)
     }
 }
 

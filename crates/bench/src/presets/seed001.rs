@@ -8,12 +8,13 @@
 //! location and tracing are measured on the device too, and its answers compared with the
 //! CPU's.
 
+use super::experiment::{Experiment, Lab};
 use crate::config::BenchConfig;
 use crate::format::{bytes, num, thousands};
 use crate::gpu::GpuSession;
 use crate::measure::warm_then_timed;
 use crate::progress::progress_bar;
-use crate::report::{median, FieldRun, SearchCost, Seed001Result};
+use crate::results::median;
 use crate::scenes::load_scenes;
 use anyhow::{Context, Result};
 use dynray_adf::{Adf, BuildParams, DistanceSource, HashVariant, MeshSource, PerfectHash, Search};
@@ -22,7 +23,94 @@ use dynray_gpu::GpuAdf;
 use dynray_render::CameraRays;
 use rand::{rngs::SmallRng, Rng, SeedableRng};
 use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
 use std::fmt::Write;
+
+/// `--preset seed001` (`presets::seed001`): distance fields per model and maximum level.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Seed001Result {
+    /// Primary-ray image width of the sphere-tracing measurements.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Random points of the point-location and error measurements.
+    pub points: usize,
+    /// The device of the GPU columns, when `--backend gpu` was given.
+    pub gpu_adapter: Option<String>,
+    /// One entry per model and level.
+    pub runs: Vec<FieldRun>,
+}
+
+/// One field: build, tables, memory, point location, sphere tracing, error.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct FieldRun {
+    /// Model name.
+    pub scene: String,
+    /// Its triangles.
+    pub triangles: usize,
+    /// Maximum level.
+    pub max_level: u32,
+    /// Build tolerance, world units.
+    pub epsilon: f64,
+    /// Finest cell edge, world units.
+    pub finest_cell: f64,
+    /// Subdivision, T-junction rule and packing, ms.
+    pub build_ms: f64,
+    /// Perfect-hash generation, ms.
+    pub hash_ms: f64,
+    /// Hash attempts (1: the first succeeded).
+    pub hash_attempts: u32,
+    /// Cells of the full tree.
+    pub cells: u64,
+    /// Internal cells (entries of H).
+    pub internal_cells: u64,
+    /// Edges of H and Φ.
+    pub table_edges: [u32; 2],
+    /// The unmodified Lefebvre–Hoppe hash (`w = m̄`) generated on the same keys: its
+    /// time, ms (to success or to giving up).
+    pub lefebvre_hoppe_ms: f64,
+    /// Its attempts when it succeeded; `None`: it failed within the retry budget.
+    pub lefebvre_hoppe_attempts: Option<u32>,
+    /// Bytes: voxel texture, H, Φ, per-cell step bounds, total.
+    pub bytes: [u64; 5],
+    /// Bytes of a full grid at the finest resolution and of the classic ADF (voxels,
+    /// cell records).
+    pub baseline_bytes: [u64; 3],
+    /// Point location of random points, per search (linear, binary, coherent linear).
+    pub locate_cpu: Vec<SearchCost>,
+    /// The same on the device.
+    pub locate_gpu: Vec<SearchCost>,
+    /// Sphere tracing the primary rays with each search, on the CPU.
+    pub march_cpu: Vec<SearchCost>,
+    /// The same on the device.
+    pub march_gpu: Vec<SearchCost>,
+    /// Primary rays that hit the field.
+    pub hits: usize,
+    /// Device rays whose answer differs from the CPU's (hit/miss or `t` bits).
+    pub gpu_differences: Option<usize>,
+    /// |reconstructed − exact| signed distance over `ε` at random points of the cube and
+    /// at points within two finest cells of the surface: mean, 99th percentile, max.
+    pub error_cube: [f64; 3],
+    /// The same near the surface.
+    pub error_near: [f64; 3],
+    /// Share of the near-surface points within `ε`.
+    pub within_epsilon_near: f64,
+}
+
+/// One search's cost in one measurement.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct SearchCost {
+    /// `linear`, `binary` or `coherent`.
+    pub search: String,
+    /// Median wall time, ms.
+    pub ms: f64,
+    /// Lookups (points, or field samples of the march).
+    pub lookups: u64,
+    /// Hash probes per lookup.
+    pub probes_per_lookup: f64,
+    /// Millions of lookups (or, for the march, of rays) per second.
+    pub mega_per_s: f64,
+}
 
 /// The searches, in report order.
 const SEARCHES: [(Search, &str); 3] =
@@ -371,6 +459,28 @@ pub fn markdown(r: &Seed001Result, s: &mut String) {
         );
     }
     let _ = writeln!(s);
+}
+
+/// `--preset seed001`: distance fields per model and level.
+pub struct Seed001;
+
+impl Experiment for Seed001 {
+    const PRESET: crate::config::Preset = crate::config::Preset::Seed001;
+    type Output = Seed001Result;
+
+    fn run(ctx: &mut Lab<'_>) -> anyhow::Result<Seed001Result> {
+        run(ctx.config, ctx.gpu.as_deref(), ctx.notes)
+    }
+
+    fn markdown(out: &Seed001Result, png: bool, s: &mut String) {
+        let _ = png;
+        markdown(out, s)
+    }
+
+    fn charts(out: &Seed001Result, dir: &std::path::Path, png: bool) -> anyhow::Result<()> {
+        let _ = (out, dir, png);
+        Ok(())
+    }
 }
 
 #[cfg(test)]

@@ -8,12 +8,14 @@
 //! for by the Cornell box (an enclosed scene), the duck (4k) and the bunny (69k, the
 //! Armadillo's size). Both structures are centred on the camera, as in the seed.
 
+use super::experiment::{Experiment, Lab};
 use super::study::{self, ratio, Metric, Study};
 use crate::config::BenchConfig;
 use crate::format::{num, thousands};
 use crate::line_chart::{LineChart, Panel, Series};
+use crate::presets::study::{Ratio, StudyResult};
 use crate::rays::RayKind;
-use crate::report::{Ratio, SceneResult, StudyResult, Work};
+use crate::results::{SceneResult, Work};
 use std::fmt::Write;
 
 /// A-buffer resolutions (pixels per cube-face side).
@@ -110,7 +112,7 @@ pub fn markdown(r: &StudyResult, png: bool, s: &mut String) {
             let (per, _) = speedups(sc, res);
             let _ = write!(s, "| {} | {res}² |", sc.name);
             for (k, x) in KINDS.iter().zip(&per) {
-                let m = |st: &crate::report::StructureResult| {
+                let m = |st: &crate::results::StructureResult| {
                     st.kinds.iter().find(|r| r.kind == k.name()).map(|r| num(r.mrays_per_s)).unwrap_or_default()
                 };
                 let x = x.map(|x| format!("{x:.2}×")).unwrap_or_else(|| "—".into());
@@ -154,7 +156,7 @@ fn work_split(r: &StudyResult, s: &mut String) {
             continue;
         };
         for k in KINDS {
-            let of = |st: &crate::report::StructureResult| st.kinds.iter().find(|x| x.kind == k.name()).cloned();
+            let of = |st: &crate::results::StructureResult| st.kinds.iter().find(|x| x.kind == k.name()).cloned();
             let (Some(pk), Some(tk)) = (of(p), of(t)) else {
                 continue;
             };
@@ -221,6 +223,28 @@ pub fn chart(r: &StudyResult) -> LineChart {
         log_y: false,
         y_from_zero: true,
         panels,
+    }
+}
+
+/// `--preset seed004`: the study, its ratios, its section and charts.
+pub struct Seed004;
+
+impl Experiment for Seed004 {
+    const PRESET: crate::config::Preset = crate::config::Preset::Seed004;
+    type Output = StudyResult;
+
+    fn run(ctx: &mut Lab<'_>) -> anyhow::Result<StudyResult> {
+        let mut r = super::study::run(ctx.config, &study(ctx.config), ctx.mismatches, ctx.notes)?;
+        r.ratios = ratios(&r);
+        Ok(r)
+    }
+
+    fn markdown(out: &StudyResult, png: bool, s: &mut String) {
+        markdown(out, png, s)
+    }
+
+    fn charts(out: &StudyResult, dir: &std::path::Path, png: bool) -> anyhow::Result<()> {
+        crate::charts::save(&chart(out), dir, "seed004-speedup", png).map(drop)
     }
 }
 

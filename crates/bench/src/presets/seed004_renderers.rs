@@ -11,18 +11,76 @@
 //! RMSE after each. Every structure returns bit-identical hits, so the images of all
 //! three are compared too and must be identical (a difference is a mismatch).
 
+use super::experiment::{Experiment, Lab};
 use crate::config::BenchConfig;
 use crate::line_chart::{LineChart, Panel, Series};
 use crate::measure::ms;
 use crate::progress::progress_bar;
-use crate::report::{ConvergencePoint, Mismatch, RendererRun, Seed004Renderers};
+use crate::results::Mismatch;
 use crate::scenes::{load_scenes, DEMO};
 use anyhow::{Context, Result};
 use dynray_accel::{Accel, AccelSpec};
 use dynray_render::{render, Film, IntegratorKind, IntegratorParams, RenderOptions};
+use serde::{Deserialize, Serialize};
 use std::fmt::Write;
 use std::sync::Mutex;
 use std::time::Instant;
+
+/// `--preset seed004`'s renderer comparison (`presets::seed004_renderers`).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Seed004Renderers {
+    /// Scene rendered.
+    pub scene: String,
+    /// Its triangles.
+    pub triangles: usize,
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// The scene's `max_recursion_level` (the full branch depth used).
+    pub max_recursion_level: u32,
+    /// Passes of the `K = 0` renders (one sample per pixel each).
+    pub passes: u32,
+    /// One entry per structure.
+    pub runs: Vec<RendererRun>,
+    /// RMSE against Whitted's image after each pass of `K = 0` (the first structure's;
+    /// every structure's images are identical).
+    pub convergence: Vec<ConvergencePoint>,
+}
+
+/// Both renderers over one structure.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct RendererRun {
+    /// `--accels` spelling.
+    pub accel: String,
+    /// Build, ms (one build).
+    pub build_ms: f64,
+    /// Recursive Whitted render, median, ms.
+    pub whitted_ms: f64,
+    /// Rays of the Whitted render (primary + shadow + secondary).
+    pub whitted_rays: u64,
+    /// Cumulative render with every bounce expanded, median, ms.
+    pub full_branch_ms: f64,
+    /// Its largest per-channel relative difference to Whitted's image.
+    pub full_branch_max_rel_diff: f64,
+    /// Cumulative `K = 0`: median render time over the passes / passes, ms.
+    pub pass_ms: f64,
+    /// Rays per pass of that render.
+    pub pass_rays: u64,
+    /// Its RMSE against Whitted's image after the last pass.
+    pub rmse: f64,
+    /// Whether this structure's images equal the first structure's, bit for bit.
+    pub images_identical: bool,
+}
+
+/// The error after some passes.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize)]
+pub struct ConvergencePoint {
+    /// Passes accumulated.
+    pub passes: u32,
+    /// RMSE over every channel against Whitted's image.
+    pub rmse: f64,
+}
 
 /// The structures compared, as `--accels` spells them (the study's middle resolution).
 pub const STRUCTURES: [&str; 3] = ["apit:resolution=64", "abuffer:resolution=64", "bvh"];
@@ -225,5 +283,25 @@ pub fn chart(r: &Seed004Renderers) -> LineChart {
                 Series { name: "1/√N from pass 1".into(), points: ideal, reference: true },
             ],
         }],
+    }
+}
+
+/// `--preset seed004`'s renderer comparison.
+pub struct Seed004RenderersRun;
+
+impl Experiment for Seed004RenderersRun {
+    const PRESET: crate::config::Preset = crate::config::Preset::Seed004;
+    type Output = Seed004Renderers;
+
+    fn run(ctx: &mut Lab<'_>) -> anyhow::Result<Seed004Renderers> {
+        run(ctx.config, ctx.mismatches)
+    }
+
+    fn markdown(out: &Seed004Renderers, png: bool, s: &mut String) {
+        markdown(out, png, s)
+    }
+
+    fn charts(out: &Seed004Renderers, dir: &std::path::Path, png: bool) -> anyhow::Result<()> {
+        crate::charts::save(&chart(out), dir, "seed004-convergence", png).map(drop)
     }
 }

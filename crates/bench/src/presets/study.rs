@@ -4,10 +4,50 @@
 use crate::config::BenchConfig;
 use crate::plan::{measure_scenes, SceneMeasure};
 use crate::rays::RayKind;
-use crate::report::{Mismatch, Ratio, SceneResult, StructureResult, StudyResult};
+use crate::results::{Mismatch, SceneResult, StructureResult};
 use crate::variant::parse_accels;
 use anyhow::Result;
 use dynray_accel::AccelSpec;
+use serde::{Deserialize, Serialize};
+
+/// A seed preset measured like the standard run (same fields per scene and structure) on
+/// the preset's scenes and structure variants, with the ratios the seed reports.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct StudyResult {
+    /// Preset name (`seed000`, …).
+    pub preset: String,
+    /// Image width of the ray sets (and renders, when time to image is measured).
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Timed repetitions (medians reported).
+    pub repeat: usize,
+    /// Ray kinds measured.
+    pub rays: Vec<String>,
+    /// Per scene, as in the standard run.
+    pub scenes: Vec<SceneResult>,
+    /// The seed's comparisons, computed from `scenes`.
+    pub ratios: Vec<Ratio>,
+}
+
+/// One comparison of two structures on one scene and metric.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Ratio {
+    /// Scene.
+    pub scene: String,
+    /// `build_ms`, `trace_ms:KIND`, `time_to_image_ms` or `memory_bytes`.
+    pub metric: String,
+    /// The structure compared against (`--accels` spelling).
+    pub baseline: String,
+    /// The structure compared.
+    pub candidate: String,
+    /// The baseline's value (ms or bytes).
+    pub baseline_value: f64,
+    /// The candidate's value.
+    pub candidate_value: f64,
+    /// `baseline_value / candidate_value`: above 1 the candidate is faster (or smaller).
+    pub speedup: f64,
+}
 
 /// A preset's experiment.
 pub struct Study {

@@ -8,21 +8,61 @@
 //! of primary rays is checked against the layout's oracle (brute force over the frame
 //! for the flat layout, brute force per part in the same two-level layout for instances).
 
-use super::dynamic::frame_time;
+use super::frame_time;
 use crate::config::BenchConfig;
 use crate::format::thousands;
 use crate::line_chart::{LineChart, Panel, Series};
 use crate::measure::{ms, oracle, timed_pass, verify};
 use crate::progress::progress_bar;
 use crate::rays::{self, RayKind, RaySets};
-use crate::report::{median, LayoutRun, Mismatch};
+use crate::results::{median, Mismatch};
 use crate::scenes::BenchScene;
 use anyhow::{Context, Result};
 use dynray_accel::{AccelKind, AccelSpec, Brute, LiveScene, SceneLayout, UpdatePolicy};
 use dynray_engine::{Fields, FrameSettings, FrameStep, Stage, Tracer};
 use dynray_render::{actor_geometry, render, RenderOptions};
+use serde::{Deserialize, Serialize};
 use std::hint::black_box;
 use std::time::Instant;
+
+/// One structure in one scene layout under one update policy, over an animated scene.
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+pub struct LayoutRun {
+    /// Scene name.
+    pub scene: String,
+    /// Triangles per frame.
+    pub triangles: usize,
+    /// Structure (of every part).
+    pub accel: String,
+    /// `flat` or `instanced` (`flat` also where the scene had nothing moving).
+    pub layout: String,
+    /// `rebuild`, `refit` or `auto`.
+    pub policy: String,
+    /// Bottom-level structures (1 when flat).
+    pub parts: usize,
+    /// Instances under the top level (1 when flat).
+    pub instances: usize,
+    /// Per frame: the update, ms.
+    pub update_ms: Vec<f64>,
+    /// Per frame: what the update did (`kept`, `refit`, `rebuilt`, `moved`).
+    pub actions: Vec<String>,
+    /// Per frame: the worst part's SAH cost over its last fresh build (`auto` only).
+    pub cost_ratio: Vec<Option<f64>>,
+    /// Per frame: primary rays, ms.
+    pub trace_ms: Vec<f64>,
+    /// Per frame: update + Whitted render, ms.
+    pub time_to_image_ms: Vec<f64>,
+    /// Median update.
+    pub median_update_ms: f64,
+    /// Median primary trace.
+    pub median_trace_ms: f64,
+    /// Median time to image.
+    pub median_time_to_image_ms: f64,
+    /// Frames in which something was rebuilt.
+    pub rebuilds: usize,
+    /// Rays checked against the layout's oracle.
+    pub verified: usize,
+}
 
 /// Primary rays per frame checked against the oracle.
 const VERIFY_PER_FRAME: usize = 256;
@@ -77,7 +117,7 @@ pub fn run(
 
 /// Whether the structure's update is a refit (else `refit` and `auto` are `rebuild`).
 fn refits(kind: AccelKind) -> bool {
-    matches!(kind, AccelKind::Bvh2 | AccelKind::Bih | AccelKind::Bvh)
+    kind.descriptor().refits
 }
 
 #[allow(clippy::too_many_arguments)]

@@ -6,23 +6,91 @@
 //! refit tree's drift from a fresh one, are known. Then primary rays are traced and a
 //! Whitted image rendered through the updated structure, and a sample of the primary rays
 //! is checked against brute force on the moved mesh. A second part
-//! (`dynamic_layouts.rs`) follows animated scenes in each scene layout and update policy.
+//! (`layouts.rs`) follows animated scenes in each scene layout and update policy.
+
+pub mod layouts;
 
 use crate::config::BenchConfig;
-use crate::format::thousands;
+use crate::format::{num, thousands};
 use crate::line_chart::{LineChart, Panel, Series};
 use crate::measure::{ms, oracle, timed_pass, verify};
+use crate::presets::experiment::{Experiment, Lab};
 use crate::progress::progress_bar;
 use crate::rays::{self, RayKind, RaySets};
-use crate::report::{median, DynamicResult, DynamicRun, Mismatch};
+use crate::results::{median, Mismatch};
 use crate::scenes::load_scenes;
 use anyhow::{Context, Result};
 use dynray_accel::AccelSpec;
 use dynray_accel::{Accel, Brute};
 use dynray_geom::{TriangleMesh, Vec3};
 use dynray_render::{render, RenderOptions};
+use layouts::LayoutRun;
+use serde::{Deserialize, Serialize};
+use std::fmt::Write;
 use std::hint::black_box;
 use std::time::Instant;
+
+/// `--preset dynamic`: every vertex moves each frame.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct DynamicResult {
+    /// Frames per scene.
+    pub frames: usize,
+    /// Image width of the primary rays and renders.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// One entry per scene × structure.
+    pub runs: Vec<DynamicRun>,
+    /// Scene layouts and update policies on the animated scenes
+    /// (`presets::dynamic::layouts`); empty in reports written before it.
+    #[serde(default)]
+    pub layouts: Vec<LayoutRun>,
+}
+
+/// One structure animated over one scene.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct DynamicRun {
+    /// Scene name.
+    pub scene: String,
+    /// What moves it: `wave` (the preset's deformation of a still model) or `animation`
+    /// (the file's own).
+    pub motion: String,
+    /// Triangles.
+    pub triangles: usize,
+    /// Structure.
+    pub accel: String,
+    /// Per frame: full rebuild, ms (the update's own time when `update` is a rebuild,
+    /// i.e. when `refits` is false).
+    pub rebuild_ms: Vec<f64>,
+    /// Whether `update` refits (BVH, BIH) rather than rebuilds.
+    pub refits: bool,
+    /// Per frame: `update` (refit where the structure has one), ms.
+    pub update_ms: Vec<f64>,
+    /// Per frame: primary rays through the updated structure, ms.
+    pub trace_ms: Vec<f64>,
+    /// Per frame: the same rays through a fresh build, ms (= `trace_ms` where `refits` is
+    /// false: the update was the fresh build).
+    pub fresh_trace_ms: Vec<f64>,
+    /// Per frame, where the structure refits and reports an SAH cost: the refit tree's
+    /// normalised SAH cost over the fresh build's (empty otherwise).
+    pub sah_ratio: Vec<f64>,
+    /// Per frame: update + Whitted render, ms.
+    pub time_to_image_ms: Vec<f64>,
+    /// Medians of the four series.
+    pub median_rebuild_ms: f64,
+    /// Median update time.
+    pub median_update_ms: f64,
+    /// Median trace time.
+    pub median_trace_ms: f64,
+    /// Median time to image.
+    pub median_time_to_image_ms: f64,
+    /// Primary-ray Mrays/s in the last frame after updates (refit quality decay shows here).
+    pub last_frame_mrays_per_s: f64,
+    /// Primary-ray Mrays/s in the first frame.
+    pub first_frame_mrays_per_s: f64,
+    /// Rays checked against brute force over all frames.
+    pub verified: usize,
+}
 
 /// Primary rays per frame checked against brute force.
 const VERIFY_PER_FRAME: usize = 256;
@@ -168,11 +236,11 @@ pub fn run(config: &BenchConfig, accels: &[AccelSpec], mismatches: &mut Vec<Mism
     // Second part: layouts and policies on the animated scenes (those given, or the
     // part's own defaults: BART, CesiumMan, the carousel).
     let layout_scenes = if config.scenes.is_empty() {
-        load_scenes(&super::dynamic_layouts::default_scenes(config.quick), config.scenes_dir.as_deref())?
+        load_scenes(&layouts::default_scenes(config.quick), config.scenes_dir.as_deref())?
     } else {
         scenes
     };
-    let layouts = super::dynamic_layouts::run(config, accels, &layout_scenes, (frames, width, height), mismatches)?;
+    let layouts = layouts::run(config, accels, &layout_scenes, (frames, width, height), mismatches)?;
     Ok(DynamicResult { frames, width, height, runs, layouts })
 }
 
@@ -283,6 +351,89 @@ pub fn drift_chart(d: &DynamicResult) -> LineChart {
         log_y: false,
         y_from_zero: false,
         panels,
+    }
+}
+
+/// The preset's section of report.md: medians per run, its charts, then the layouts.
+pub fn markdown(d: &DynamicResult, png: bool, s: &mut String) {
+    let _ = writeln!(
+        s,
+        "## Preset dynamic — geometry moves each frame ({} frames, {}×{})\n\n\
+         Medians over the frames. *motion*: `wave` deforms every vertex of a still model, `animation` \
+         plays the file's own. *update* is the structure's `update` (a refit where it has one); \
+         *rebuild* a full build; time to image = update + Whitted render; *refit/fresh* the refit \
+         tree's primary trace time and SAH cost over a fresh build's on the same frame (last frame).\n\n\
+         | scene | motion | triangles | structure | rebuild ms | update ms | primary trace ms | time to image ms | Mrays/s frame 1 → last | refit/fresh trace, SAH | checked |\n\
+         |---|---|--:|---|--:|--:|--:|--:|--:|--:|--:|",
+        d.frames, d.width, d.height
+    );
+    for run in &d.runs {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} → {} | {} | {} |",
+            run.scene,
+            run.motion,
+            thousands(run.triangles as u64),
+            run.accel,
+            num(run.median_rebuild_ms),
+            num(run.median_update_ms),
+            num(run.median_trace_ms),
+            num(run.median_time_to_image_ms),
+            num(run.first_frame_mrays_per_s),
+            num(run.last_frame_mrays_per_s),
+            drift(run),
+            thousands(run.verified as u64)
+        );
+    }
+    let ext = if png { "png" } else { "svg" };
+    let _ = writeln!(s, "\n![dynamic](dynamic.{ext})\n");
+    if d.runs.iter().any(|r| r.refits) {
+        let _ = writeln!(s, "![refit drift](dynamic-drift.{ext})\n");
+    }
+    if !d.layouts.is_empty() {
+        layouts::markdown(&d.layouts, s);
+        let _ = writeln!(s, "\n![scene layouts](dynamic-layouts.{ext})\n");
+    }
+}
+
+/// The last frame's refit-over-fresh trace time and SAH cost of a refitting run
+/// (`—` for structures that rebuild).
+fn drift(run: &DynamicRun) -> String {
+    if !run.refits {
+        return "—".into();
+    }
+    let trace = match (run.trace_ms.last(), run.fresh_trace_ms.last()) {
+        (Some(&t), Some(&f)) if f > 0.0 => format!("{:.2}", t / f),
+        _ => "—".into(),
+    };
+    let sah = run.sah_ratio.last().map_or("—".into(), |r| format!("{r:.2}"));
+    format!("{trace}, {sah}")
+}
+
+/// `--preset dynamic`: geometry that moves every frame, and the scene layouts.
+pub struct Dynamic;
+
+impl Experiment for Dynamic {
+    const PRESET: crate::config::Preset = crate::config::Preset::Dynamic;
+    type Output = DynamicResult;
+
+    fn run(ctx: &mut Lab<'_>) -> anyhow::Result<DynamicResult> {
+        run(ctx.config, ctx.accels, ctx.mismatches)
+    }
+
+    fn markdown(out: &DynamicResult, png: bool, s: &mut String) {
+        markdown(out, png, s)
+    }
+
+    fn charts(out: &DynamicResult, dir: &std::path::Path, png: bool) -> anyhow::Result<()> {
+        crate::charts::save(&chart(out), dir, "dynamic", png)?;
+        if !out.layouts.is_empty() {
+            crate::charts::save(&layouts::chart(&out.layouts, out.width, out.height), dir, "dynamic-layouts", png)?;
+        }
+        if out.runs.iter().any(|r| r.refits) {
+            crate::charts::save(&drift_chart(out), dir, "dynamic-drift", png)?;
+        }
+        Ok(())
     }
 }
 

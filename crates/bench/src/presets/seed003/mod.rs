@@ -10,21 +10,25 @@
 //! row of its Table 4.8); levels 2–10 are Whitted ray tracing with that maximum recursion
 //! level. Every render of a level must produce the same image.
 
-use super::seed003_gpu;
-use super::seed003_sweeps as sweeps;
+pub mod results;
+mod strategies;
+mod sweeps;
+
 use crate::config::BenchConfig;
 use crate::format::{num, thousands};
 use crate::gpu::{self, GpuSession};
 use crate::line_chart::{LineChart, Panel, Series};
 use crate::measure::ms;
+use crate::presets::experiment::{Experiment, Lab};
 use crate::progress::progress_bar;
-use crate::report::{median, Mismatch, Seed003Level, Seed003Result, Seed003Scene};
+use crate::results::{median, Mismatch};
 use crate::scenes::load_scenes;
 use anyhow::{Context, Result};
 use dynray_accel::AccelSpec;
 use dynray_accel::{Accel, Brute, Bvh};
 use dynray_render::{render, Film, RenderOptions};
 use dynray_scene::Frame;
+use results::{Seed003Level, Seed003Result, Seed003Scene};
 use std::fmt::Write;
 use std::time::Instant;
 
@@ -121,8 +125,8 @@ pub fn run(
             let gpu_runs = match (gpu.as_deref_mut(), &gpu_bvh) {
                 (Some(g), Some(b)) => {
                     let what = format!("level {level}");
-                    let shot = seed003_gpu::CpuShot { scene: &sc.name, what: &what, film: &film_n, single_ms };
-                    seed003_gpu::strategies(g, &frame, b, &shot, config.repeat, mismatches)?
+                    let shot = strategies::CpuShot { scene: &sc.name, what: &what, film: &film_n, single_ms };
+                    strategies::strategies(g, &frame, b, &shot, config.repeat, mismatches)?
                 }
                 _ => Vec::new(),
             };
@@ -158,8 +162,7 @@ pub fn run(
         let (cpu_single_build_ms, gpu_builds) = match gpu.as_deref_mut() {
             Some(g) => {
                 bar.set_message(format!("seed003 {}: builds on the GPU", sc.name));
-                let (single_ms, builds) =
-                    seed003_gpu::builds(g, &frame, &gpu_params, &single, config.repeat, &sc.name)?;
+                let (single_ms, builds) = strategies::builds(g, &frame, &gpu_params, &single, config.repeat, &sc.name)?;
                 bar.inc(1);
                 (Some(single_ms), builds)
             }
@@ -286,7 +289,7 @@ pub fn markdown(p: &Seed003Result, png: bool, s: &mut String) {
             );
         }
         let _ = writeln!(s);
-        seed003_gpu::markdown(sc, p.gpu_adapter.as_deref().unwrap_or("the GPU"), s);
+        strategies::markdown(sc, p.gpu_adapter.as_deref().unwrap_or("the GPU"), s);
     }
     if let Some(w) = &p.sweeps {
         sweeps::markdown(w, p.threads, s);
@@ -328,6 +331,26 @@ pub fn chart(p: &Seed003Result) -> LineChart {
         log_y: true,
         y_from_zero: false,
         panels,
+    }
+}
+
+/// `--preset seed003`: brute force against the accelerated tracer, levels and sweeps.
+pub struct Seed003;
+
+impl Experiment for Seed003 {
+    const PRESET: crate::config::Preset = crate::config::Preset::Seed003;
+    type Output = Seed003Result;
+
+    fn run(ctx: &mut Lab<'_>) -> anyhow::Result<Seed003Result> {
+        run(ctx.config, ctx.accels, ctx.gpu.as_deref_mut(), ctx.notes, ctx.mismatches)
+    }
+
+    fn markdown(out: &Seed003Result, png: bool, s: &mut String) {
+        markdown(out, png, s)
+    }
+
+    fn charts(out: &Seed003Result, dir: &std::path::Path, png: bool) -> anyhow::Result<()> {
+        crate::charts::save(&chart(out), dir, "seed003-speedup", png).map(drop)
     }
 }
 

@@ -5,10 +5,11 @@
 //! Table 4.9). The GPU renders through the CPU-built tree uploaded once, as the seed
 //! timed rendering alone; their images are compared with the CPU's.
 
+use super::results::{Seed003GpuBuild, Seed003GpuRun, Seed003Scene};
 use crate::format::{num, thousands};
 use crate::gpu::GpuSession;
 use crate::measure::warm_then_timed;
-use crate::report::{median, Mismatch, Seed003GpuBuild, Seed003GpuRun, Seed003Scene};
+use crate::results::{median, Mismatch};
 use anyhow::{Context, Result};
 use dynray_accel::{Accel, Bvh, BvhParams};
 use dynray_gpu::{GpuBuild, GpuBvh, GpuRenderOptions, GpuStrategy};

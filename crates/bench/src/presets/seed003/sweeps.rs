@@ -8,11 +8,12 @@
 //! each with 1/N of a white light so the image keeps its brightness (the cost of a
 //! shadow ray does not depend on its light's colour).
 
-use super::seed003::{compare, timed_render};
-use super::seed003_gpu::{self, strategies, CpuShot};
+use super::results::{Seed003Point, Seed003Sweeps};
+use super::strategies::{self, CpuShot};
+use super::{compare, timed_render};
 use crate::format::{num, thousands};
 use crate::gpu::GpuSession;
-use crate::report::{Mismatch, Seed003Point, Seed003Sweeps};
+use crate::results::Mismatch;
 use anyhow::Result;
 use dynray_accel::{Accel, Bvh};
 use dynray_geom::Vec3;
@@ -119,7 +120,7 @@ fn point(
         (Some(g), Some(b)) => {
             let what = format!("sweep {what}");
             let shot = CpuShot { scene: input.scene, what: &what, film: &film_n, single_ms };
-            strategies(g, frame, b, &shot, input.repeat, mismatches)?
+            strategies::strategies(g, frame, b, &shot, input.repeat, mismatches)?
         }
         _ => Vec::new(),
     };
@@ -141,7 +142,7 @@ fn point(
 /// when they ran).
 pub fn markdown(w: &Seed003Sweeps, threads: usize, s: &mut String) {
     let on_gpu = w.lights.iter().chain(&w.resolution).any(|p| !p.gpu.is_empty());
-    let (gpu_head, gpu_rule) = if on_gpu { seed003_gpu::header() } else { Default::default() };
+    let (gpu_head, gpu_rule) = if on_gpu { strategies::header() } else { Default::default() };
     let _ = writeln!(
         s,
         "### Ray casting on {} against the number of lights (Table 4.3's scenes 1–5) and the image size \
@@ -151,7 +152,7 @@ pub fn markdown(w: &Seed003Sweeps, threads: usize, s: &mut String) {
         w.scene
     );
     for p in w.lights.iter().chain(&w.resolution) {
-        let gpu = if on_gpu { seed003_gpu::cells(&p.gpu) } else { String::new() };
+        let gpu = if on_gpu { strategies::cells(&p.gpu) } else { String::new() };
         let _ = writeln!(
             s,
             "| {} | {}×{} | {} | {} | {} | {:.2} | {:.2} | {} |{gpu}",
