@@ -82,8 +82,7 @@ fn frames_move_stay_above_the_floor_and_shards_match() {
 }
 
 /// Rays down onto the falling box from a grid over the scene, as an (N, 8) `.npy`.
-fn rays_over_the_box(path: &Path) -> Vec<[f32; 8]> {
-    use npyz::WriterBuilder;
+fn rays_over_the_box(path: &Path) {
     let rows: Vec<[f32; 8]> = (0..900)
         .map(|i| {
             let x = -1.2 + 2.4 * (i % 30) as f32 / 29.0;
@@ -91,15 +90,7 @@ fn rays_over_the_box(path: &Path) -> Vec<[f32; 8]> {
             [x, 5.0, z, 0.01, -1.0, 0.02, 0.0, f32::INFINITY]
         })
         .collect();
-    let mut w = npyz::WriteOptions::<f32>::new()
-        .default_dtype()
-        .shape(&[rows.len() as u64, 8])
-        .writer(std::fs::File::create(path).unwrap())
-        .begin_nd()
-        .unwrap();
-    w.extend(rows.iter().flatten().copied()).unwrap();
-    w.finish().unwrap();
-    rows
+    support::write_rays_npy(path, &rows);
 }
 
 /// Runs `trace-rays FILE` with `extra` and returns the archive's (t bits, prim, u bits, v bits).

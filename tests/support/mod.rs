@@ -134,3 +134,16 @@ pub fn fails_with(o: Output, needle: &str) {
     assert!(err.contains(needle), "message should mention {needle:?}: {err}");
     assert!(!err.contains("panicked"), "{err}");
 }
+
+/// Writes rays as the (N, 8) float32 `.npy` that `trace-rays --rays` reads.
+pub fn write_rays_npy(path: &Path, rows: &[[f32; 8]]) {
+    use npyz::WriterBuilder;
+    let mut w = npyz::WriteOptions::<f32>::new()
+        .default_dtype()
+        .shape(&[rows.len() as u64, 8])
+        .writer(std::fs::File::create(path).unwrap())
+        .begin_nd()
+        .unwrap();
+    w.extend(rows.iter().flatten().copied()).unwrap();
+    w.finish().unwrap();
+}

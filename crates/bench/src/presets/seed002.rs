@@ -177,9 +177,7 @@ impl Experiment for Seed002 {
     type Output = StudyResult;
 
     fn run(ctx: &mut Lab<'_>) -> anyhow::Result<StudyResult> {
-        let mut r = super::study::run(ctx.config, &study(ctx.config), ctx.mismatches, ctx.notes)?;
-        r.ratios = ratios(&r);
-        Ok(r)
+        super::study::run_in_lab(ctx, study, ratios)
     }
 
     fn markdown(out: &StudyResult, png: bool, s: &mut String) {

@@ -182,6 +182,17 @@ pub fn param<'a>(label: &'a str, key: &str) -> Option<&'a str> {
     params.split(',').find_map(|kv| kv.strip_prefix(key)?.strip_prefix('='))
 }
 
+/// A study preset's run through the lab: its study measured, then its ratios.
+pub fn run_in_lab(
+    lab: &mut super::experiment::Lab<'_>,
+    study: fn(&BenchConfig) -> Study,
+    ratios: fn(&StudyResult) -> Vec<Ratio>,
+) -> Result<StudyResult> {
+    let mut r = run(lab.config, &study(lab.config), lab.mismatches, lab.notes)?;
+    r.ratios = ratios(&r);
+    Ok(r)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
