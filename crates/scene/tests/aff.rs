@@ -120,8 +120,11 @@ fn bart_cameras_follow_their_keys() {
     }
 }
 
-/// One triangle under `x obj` with three translation keys (x: 0, 1, 0 at t = 0, 1, 2;
-/// zero tension, continuity, bias) and two rotation keys (0° and 90° about y).
+/// One triangle under `x obj`. Translation keys (x): 5 at −1, 0 at 0, 1 at 1, 0 at 2, 7
+/// at 3; rotation keys about y: 0° at −1 and 0, 90° at 2 and 3 (zero tension,
+/// continuity, bias). BART's rules (crates/scene/src/animation/bart_track.rs): the first
+/// and last keys only give the end tangents, the value holds at key 1 before it and at
+/// key n−2 after it.
 const KEYED: &str = "\
 a 0 2 3
 x obj
@@ -130,13 +133,17 @@ x obj
 }
 k obj
 {
-  transl 3
-  0  0 0 0  0 0 0
-  1  1 0 0  0 0 0
-  2  0 0 0  0 0 0
-  rot 2
-  0  0 1 0  0   0 0 0
-  2  0 1 0  90  0 0 0
+  transl 5
+  -1  5 0 0  0 0 0
+  0   0 0 0  0 0 0
+  1   1 0 0  0 0 0
+  2   0 0 0  0 0 0
+  3   7 0 0  0 0 0
+  rot 4
+  -1  0 1 0  0   0 0 0
+  0   0 1 0  0   0 0 0
+  2   0 1 0  90  0 0 0
+  3   0 1 0  90  0 0 0
 }
 ";
 
@@ -148,18 +155,31 @@ fn keyed_transforms_interpolate_to_hand_computed_positions() {
     assert_eq!(s.animation.timeline.time_of(1), 1.0);
     assert_eq!(s.actors[0].motion, Motion::Dynamic);
     let p0 = |t: f32| Vec3::from_array(s.frame(t).mesh.positions[0]);
-    // t = 1: translation is key 1's (1, 0, 0); the two rotation keys blend halfway, 45°.
-    let h = std::f32::consts::FRAC_1_SQRT_2;
-    assert!((p0(1.0) - Vec3::new(1.0 + h, 0.0, -h)).length() < 1e-5, "{}", p0(1.0));
-    // t = 0.5: Kochanek–Bartels from x = 0 (end tangent = the chord, 1) to x = 1 (tangent
-    // (1 + -1) / 2 = 0): h10(½)·1 + h01(½)·1 = 0.125 + 0.5 = 0.625. Rotation: with two
-    // keys the spline is the straight chord of the quaternions, a quarter of the way,
-    // normalised: angle 2·atan2(¼·sin 45°, 1 − ¼·(1 − cos 45°)).
-    let theta = 2.0 * (0.25 * h).atan2(1.0 - 0.25 * (1.0 - h));
-    let want = Vec3::new(0.625 + theta.cos(), 0.0, -theta.sin());
+    let turned = |x: f32, deg: f32| Vec3::new(x + deg.to_radians().cos(), 0.0, -deg.to_radians().sin());
+    // Rotation, one segment 0 → 2 s (0° → 90°, outer keys 0° and 90°): in half-angles
+    // (log of the key quaternions) Δ = 45°, a0 = a1 = 2·2/3, Tout = Tin = a/2·(0 + 45) = 30°,
+    // squad's controls φa = 0 + (30 − 45)/2 = −7.5°, φb = 45 + (45 − 30)/2 = 52.5°, and
+    // with one axis squad is lerp(lerp(0, 45, u), lerp(−7.5, 52.5, u), 2u(1 − u)).
+    let half_angle = |u: f32| {
+        let lerp = |a: f32, b: f32, s: f32| a + s * (b - a);
+        lerp(lerp(0.0, 45.0, u), lerp(-7.5, 52.5, u), 2.0 * u * (1.0 - u))
+    };
+    // t = 1: translation is key 2's (1, 0, 0); rotation halfway, 2·22.5° = 45°.
+    assert!((p0(1.0) - turned(1.0, 45.0)).length() < 1e-5, "{}", p0(1.0));
+    // t = 0.5: translation from 0 (Tout = ½((0 − 5) + (1 − 0)) = −2) to 1 (Tin =
+    // ½((1 − 0) + (0 − 1)) = 0): h10(½)·(−2) + h01(½)·1 = −0.25 + 0.5 = 0.25 — the outer
+    // key at −1 pulls the start. Rotation at u = ¼: half-angle 11.25 + ⅜·(7.5 − 11.25)
+    // = 9.84375°, so 19.6875°.
+    assert_eq!(half_angle(0.25), 9.84375);
+    let want = turned(0.25, 19.6875);
     assert!((p0(0.5) - want).length() < 1e-5, "{} vs {want}", p0(0.5));
-    // Held outside the keys.
-    assert!((p0(5.0) - Vec3::new(0.0, 0.0, -1.0)).length() < 1e-5, "{}", p0(5.0));
+    // t = 1.5: from 1 (Tout = ½((1 − 0) + (0 − 1)) = 0) to 0 (Tin = ½((0 − 1) + (7 − 0))
+    // = 3): h00(½)·1 + h11(½)·3 = 0.5 − 0.375 = 0.125.
+    let want = turned(0.125, 2.0 * half_angle(0.75));
+    assert!((p0(1.5) - want).length() < 1e-5, "{} vs {want}", p0(1.5));
+    // Held outside keys 1 and n−2: never towards the outer keys' 5 and 7.
+    assert!((p0(-0.5) - turned(0.0, 0.0)).length() < 1e-6, "{}", p0(-0.5));
+    assert!((p0(5.0) - turned(0.0, 90.0)).length() < 1e-5, "{}", p0(5.0));
 }
 
 #[test]
@@ -269,17 +289,30 @@ fn numbers_that_do_not_parse_are_errors() {
 
 #[test]
 fn keys_outside_the_animation_range_are_errors() {
-    let text = "a 0 1 10\nx o { p 3 0 0 0 1 0 0 0 1 0 }\nk o {\n transl 2\n 2 0 0 0 0 0 0\n 3 1 0 0 0 0 0\n}\n";
+    // The track moves from key 1 (t = 3) to key n−2 (t = 4), all after the range 0..1:
+    // the error names key 1's line.
+    let text = "a 0 1 10\nx o { p 3 0 0 0 1 0 0 0 1 0 }\nk o {\n transl 4\n 0.5 0 0 0 0 0 0\n 3 1 0 0 0 0 0\n \
+                4 2 0 0 0 0 0\n 5 3 0 0 0 0 0\n}\n";
     let (e, d) = fails(&[("r.aff", text)]);
-    assert!(e.starts_with(&at(d.path(), "r.aff", 5)) && e.contains("outside the animation range"), "{e}");
-    // Keys beyond the ends (BART's padding) load.
-    let ok = text.replace(" 2 0 0 0 0 0 0", " -1 0 0 0 0 0 0");
+    assert!(e.starts_with(&at(d.path(), "r.aff", 6)) && e.contains("outside the animation range"), "{e}");
+    // Outer keys beyond the ends (they only shape the ends) load.
+    let ok = text.replace(" 3 1 0 0 0 0 0", " 0.75 1 0 0 0 0 0");
     let dir = tempfile::tempdir().unwrap();
     load_file_unshaded(&write(dir.path(), "ok.aff", ok.as_bytes())).unwrap();
-    // A key earlier than the one before it is dropped with a warning (BART's robots have one).
-    let back = "x o { p 3 0 0 0 1 0 0 0 1 0 }\nk o { transl 2\n 1 0 0 0 0 0 0\n 0 0 0 0 0 0 0 }\n";
+    // A key earlier than the one before it is kept, as BART's reference code keeps it,
+    // with a warning (BART's robots have one).
+    let back =
+        "x o { p 3 0 0 0 1 0 0 0 1 0 }\nk o { transl 4\n 0 0 0 0 0 0 0\n 1 0 0 0 0 0 0\n 0.5 0 0 0 0 0 0\n 2 0 0 0 0 0 0 }\n";
     let r = load_file_report(&write(dir.path(), "back.aff", back.as_bytes())).unwrap();
-    assert!(r.warnings.iter().any(|w| w.line == Some(4) && w.message.contains("comes after")), "{:?}", r.warnings);
+    assert!(
+        r.warnings.iter().any(|w| w.line == Some(5) && w.message.contains("comes after") && w.message.contains("kept")),
+        "{:?}",
+        r.warnings
+    );
+    // Fewer than 4 keys: refused at the `rot` line, as BART's parse.c refuses them.
+    let short = "x o { p 3 0 0 0 1 0 0 0 1 0 }\nk o {\n rot 2\n 0 0 1 0 0 0 0 0\n 1 0 1 0 90 0 0 0\n}\n";
+    let (e, d) = fails(&[("s.aff", short)]);
+    assert!(e.starts_with(&at(d.path(), "s.aff", 3)) && e.contains("at least 4"), "{e}");
 }
 
 #[test]

@@ -118,7 +118,10 @@ fn triangle() -> TriangleMesh {
 
 fn translation_clip(node: u32, to: Vec3) -> Clip {
     let track = Track::new(vec![0.0, 1.0], 3, [[0.0; 3], to.to_array()].concat(), Interpolation::Linear).unwrap();
-    Clip { name: Some("move".into()), channels: vec![Channel { node, target: ChannelTarget::Translation, track }] }
+    Clip {
+        name: Some("move".into()),
+        channels: vec![Channel { node, target: ChannelTarget::Translation, track: track.into() }],
+    }
 }
 
 #[test]
@@ -183,7 +186,8 @@ fn skinning_blends_joint_matrices_and_ignores_the_node() {
                 node: 1,
                 target: ChannelTarget::Translation,
                 track: Track::new(vec![0.0, 1.0], 3, vec![1.0, 0.0, 0.0, 1.0, 2.0, 0.0], Interpolation::Linear)
-                    .unwrap(),
+                    .unwrap()
+                    .into(),
             }],
         }],
         active_clip: 0,
@@ -228,7 +232,7 @@ fn morph_weights_and_vertex_keys_move_vertices() {
         channels: vec![Channel {
             node: 0,
             target: ChannelTarget::Weights,
-            track: Track::new(vec![0.0, 2.0], 2, vec![0.0, 0.0, 1.0, 0.5], Interpolation::Linear).unwrap(),
+            track: Track::new(vec![0.0, 2.0], 2, vec![0.0, 0.0, 1.0, 0.5], Interpolation::Linear).unwrap().into(),
         }],
     });
     let mut a = Actor::new(None, triangle(), 0);

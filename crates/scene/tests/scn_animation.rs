@@ -115,7 +115,8 @@ fn smooth_through_three_keys_is_catmull_rom() {
     ));
     // Catmull–Rom by hand, per segment in units of the segment (keys evenly spaced): the
     // tangent at an inner key is half the chord between its neighbours, at an end key the
-    // chord to its one neighbour (zero-length outer chord, as BART and the Track do).
+    // chord to its one neighbour (a zero-length outer chord, as the Track does; BART's
+    // AFF tracks follow other rules, crates/scene/tests/bart_reference.rs).
     let hermite = |p0: f32, m0: f32, p1: f32, m1: f32, s: f32| {
         let (s2, s3) = (s * s, s * s * s);
         (2.0 * s3 - 3.0 * s2 + 1.0) * p0 + (s3 - 2.0 * s2 + s) * m0 + (-2.0 * s3 + 3.0 * s2) * p1 + (s3 - s2) * m1

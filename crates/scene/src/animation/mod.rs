@@ -12,16 +12,24 @@
 //!   [`Animation::camera_node`]);
 //! - a [`Timeline`]: which times the frames of `dynray animate` and `--frame K` are.
 //!
-//! Tracks ([`Track`]) interpolate one quantity (step, linear/slerp, glTF cubic spline,
-//! Kochanek–Bartels). Triangle count and order never change with time, so structures can
-//! refit.
+//! A channel's keys ([`ChannelTrack`]) are one of two kinds, each with its own rules:
+//! - [`Track`]: dynray's keyframes, for glTF and the scene language (step, linear/slerp,
+//!   glTF cubic spline, Kochanek–Bartels through every key);
+//! - [`BartTrack`]: BART's (AFF) tracks, evaluated as BART's reference C code does
+//!   (Kochanek–Bartels between the second and the second-to-last key, squad on
+//!   quaternions for rotations; `bart_track.rs`, `bart_quat.rs`).
+//!
+//! Triangle count and order never change with time, so structures can refit.
 
+mod bart_quat;
+mod bart_track;
 mod deform;
 mod rig;
 mod track;
 
+pub use bart_track::{AxisAngle, BartKey, BartTrack, BART_MIN_KEYS};
 pub use deform::{Deformation, Morph, MorphTarget, SkinBinding, VertexKeys};
-pub use rig::{Channel, ChannelTarget, Clip, Node, NodePose, Rig, RigError, Skin};
+pub use rig::{Channel, ChannelTarget, ChannelTrack, Clip, Node, NodePose, Rig, RigError, Skin};
 pub use track::{Interpolation, Track, TrackError};
 
 /// Which times the frames of an animation are: frame `k` is at `start + k / frame_rate`.

@@ -3,10 +3,16 @@
 //!
 //! glTF's nodes, BART's `x` transforms and the scene language's keyframed actors all
 //! become [`Node`]s. A node's local matrix at time `t` is its rest pose with the active
-//! clip's channels replacing translation, rotation or scale (`T · R · S`, glTF's order);
-//! its world matrix is its parent's world matrix times its local one. Nodes are stored
-//! parents first ([`Rig::validate`] checks it), so one pass in order evaluates them.
+//! clip's channels replacing translation, rotation or scale (`T · R · S`, glTF's order
+//! and BART's); its world matrix is its parent's world matrix times its local one. Nodes
+//! are stored parents first ([`Rig::validate`] checks it), so one pass in order
+//! evaluates them.
+//!
+//! A channel's keys are a [`ChannelTrack`]: dynray's keyframes ([`Track`], for glTF and
+//! the scene language) or a BART track ([`BartTrack`], evaluated by BART's reference
+//! rules). The kind is chosen by the loader, per the format's semantics.
 
+use super::bart_track::BartTrack;
 use super::track::{Track, TrackError};
 use glam::{Mat4, Quat, Vec3};
 
@@ -59,6 +65,56 @@ pub enum ChannelTarget {
     Weights,
 }
 
+/// The keys of a [`Channel`], and so which rules evaluate them.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ChannelTrack {
+    /// glTF's and the scene language's keyframes (step, linear/slerp, cubic spline,
+    /// Kochanek–Bartels through every key).
+    Keyframes(Track),
+    /// A BART (AFF) track: Kochanek–Bartels between key 1 and key n−2, squad for
+    /// rotations, as BART's reference code evaluates it.
+    Bart(BartTrack),
+}
+
+impl ChannelTrack {
+    /// Numbers a value has.
+    pub fn width(&self) -> usize {
+        match self {
+            ChannelTrack::Keyframes(t) => t.width(),
+            ChannelTrack::Bart(t) => t.width(),
+        }
+    }
+
+    /// The times over which the value changes: the first and last key of keyframes; key
+    /// 1 and key n−2 of a BART track (outside them it holds).
+    pub fn range(&self) -> (f32, f32) {
+        match self {
+            ChannelTrack::Keyframes(t) => t.range(),
+            ChannelTrack::Bart(t) => t.range(),
+        }
+    }
+
+    /// Writes the value at time `t` into `out` ([`ChannelTrack::width`] numbers).
+    pub fn sample_into(&self, t: f32, out: &mut [f32]) {
+        match self {
+            ChannelTrack::Keyframes(k) => k.sample_into(t, out),
+            ChannelTrack::Bart(b) => b.sample_into(t, out),
+        }
+    }
+}
+
+impl From<Track> for ChannelTrack {
+    fn from(t: Track) -> Self {
+        ChannelTrack::Keyframes(t)
+    }
+}
+
+impl From<BartTrack> for ChannelTrack {
+    fn from(t: BartTrack) -> Self {
+        ChannelTrack::Bart(t)
+    }
+}
+
 /// One animated property of one node.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Channel {
@@ -67,7 +123,7 @@ pub struct Channel {
     /// Which property.
     pub target: ChannelTarget,
     /// Its keys.
-    pub track: Track,
+    pub track: ChannelTrack,
 }
 
 /// A named set of channels played together (a glTF animation; `--clip NAME` picks one).

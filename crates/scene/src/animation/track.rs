@@ -1,18 +1,21 @@
 //! A keyframe track: one animated quantity (a translation, a rotation, a scale, morph
-//! weights, a light's colour…) sampled at any time.
+//! weights, a light's colour…) sampled at any time — the keyframes of glTF and of the
+//! scene language. BART's (AFF) tracks follow other rules, those of BART's reference
+//! code, and are a kind of their own ([`super::BartTrack`]).
 //!
 //! Values are stored flat, `width` floats per key, so one type carries every quantity
-//! the loaders read. Outside its keys a track holds its first or last value (glTF's rule,
-//! and BART's). Interpolation is per track:
+//! the loaders read. Outside its keys a track holds its first or last value (glTF's
+//! rule). Interpolation is per track:
 //! - [`Interpolation::Step`]: the value of the last key at or before `t`;
 //! - [`Interpolation::Linear`]: componentwise lerp, or for rotations (unit quaternions,
 //!   `x y z w`) a slerp along the shorter arc, as glTF asks;
 //! - [`Interpolation::CubicSpline`]: glTF's cubic Hermite spline with explicit in/out
 //!   tangents per key (scaled by the key interval, glTF spec appendix C);
 //! - [`Interpolation::Tcb`]: a Kochanek–Bartels spline (SIGGRAPH 1984) with tension,
-//!   continuity and bias per key; all zero is the Catmull–Rom spline. End keys use
-//!   zero-length outer chords (the curve's tangent there comes from its one neighbour),
-//!   as BART's reference code does.
+//!   continuity and bias per key; all zero is the Catmull–Rom spline. It runs through
+//!   every key, the first and last included; end keys use zero-length outer chords (the
+//!   curve's tangent there comes from its one neighbour). This is the scene language's
+//!   `smooth` (docs/scene-language.md), not BART's rule.
 //!
 //! Cubic rotations are interpolated componentwise and then normalised (the glTF rule);
 //! successive quaternion keys are first put in the same hemisphere so the curve takes
@@ -78,6 +81,21 @@ pub enum TrackError {
     /// A rotation key that is not a usable quaternion (zero length).
     #[error("rotation key {key} is not a rotation (zero quaternion)")]
     ZeroRotation {
+        /// 0-based key.
+        key: usize,
+    },
+    /// A BART track with fewer than [`super::BART_MIN_KEYS`] keys.
+    #[error(
+        "{keys} keys: a BART track needs at least 4 (the first and the last only give the end tangents; \
+         BART's parse.c refuses fewer)"
+    )]
+    TooFewBartKeys {
+        /// Keys given.
+        keys: usize,
+    },
+    /// A rotation key turning by a non-zero angle about a zero axis.
+    #[error("rotation key {key} turns about a zero axis")]
+    ZeroAxis {
         /// 0-based key.
         key: usize,
     },

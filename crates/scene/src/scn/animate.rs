@@ -12,7 +12,7 @@
 use super::diag::{did_you_mean, Diag, FileId};
 use super::parser::{Parser, Span, R};
 use super::value::Value;
-use crate::animation::{Channel, ChannelTarget, Interpolation, Node, NodePose, Rig, Track};
+use crate::animation::{Channel, ChannelTarget, ChannelTrack, Interpolation, Node, NodePose, Rig, Track};
 use glam::{DMat4, DQuat, DVec3};
 
 /// Largest `settings { frames N }`.
@@ -317,7 +317,7 @@ impl AnimSpec {
             }
             .map_err(fail)?;
             let track = if target == ChannelTarget::Rotation { track.into_rotation().map_err(fail)? } else { track };
-            out.push(Channel { node, target, track });
+            out.push(Channel { node, target, track: ChannelTrack::Keyframes(track) });
         }
         Ok(out)
     }

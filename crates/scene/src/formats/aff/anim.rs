@@ -3,31 +3,31 @@
 //! animation range (`a start end frames`).
 //!
 //! Each key is `time x y z tension continuity bias` (`rot`: `time ax ay az angle° t c b`).
-//! Translation and scale become [`Track::tcb`] Kochanek–Bartels tracks, as in BART.
-//! Rotation keys are converted from axis–angle to unit quaternions and interpolated by a
-//! Kochanek–Bartels spline on the quaternion components (neighbours put in one
-//! hemisphere, the result normalised: [`Track::into_rotation`]). BART's reference code
-//! runs its Kochanek–Bartels spline on quaternions too, with spherical (squad-like)
-//! blending; ours passes through the same key orientations with the same tangent rule
-//! and differs only in angular speed between keys, which on BART's densely keyed data is
-//! far below a pixel — and it keeps one spline implementation for every quantity.
-//! Angles of a whole turn or more are kept (`rot` 0° → 360° → 720° spins twice): keys
-//! closer than 180° apart, as BART's are, give quaternions that never flip.
+//! Every track becomes a [`BartTrack`], evaluated as BART's reference code evaluates it
+//! (`crate::animation::BartTrack` has the rules): a Kochanek–Bartels spline from the
+//! second key to the second-to-last — the first and the last only give the end
+//! tangents, and the value holds outside — and for rotations the same spline on
+//! quaternions, evaluated by squad. So a track needs at least 4 keys, as BART's
+//! `parse.c` demands; fewer is an error naming the line of the `transl`, `rot` or `scale`
+//! word. Angles of a whole turn or more are kept (`rot` 0° → 360° → 720° spins twice).
 //!
-//! Keys at the same time as the previous one (BART's files repeat the first and last
-//! keys, and the kitchen's wheels some inner ones) are dropped, and so are keys earlier
-//! than a key before them (one robot track runs 42…48 twice), each with one warning per
-//! track: BART's data has both, and the rest of such tracks is usable.
+//! Keys are kept as written, as the reference keeps them: keys at the time of the
+//! previous one (the robots repeat their first and last keys, the kitchen's wheels some
+//! inner ones) are neighbours for the tangents, and keys earlier than a key before them
+//! (one robot track runs 42…48 twice) are kept with a warning, since such a track is
+//! probably a mistake even though the reference evaluates it.
 //!
-//! Keys may lie beyond the `a` range (BART pads tracks by a key at each end to shape
-//! the spline's ends, and some robot tracks run past the end). A track of several keys
-//! lying wholly before the start or after the end is an error naming its nearest key
-//! ("a key outside the animation range"): no frame could show any of it.
+//! Keys may lie beyond the `a` range (the outer keys only shape the ends, and some robot
+//! tracks run past the end). A track whose moving part, key 1 to key n−2, lies wholly
+//! before the start or after the end is an error naming the nearest such key ("a key
+//! outside the animation range"): no frame could show its motion.
 
 use super::lexer::Tokens;
-use crate::animation::{Channel, ChannelTarget, Clip, Node, NodePose, Rig, Track};
+use crate::animation::{
+    AxisAngle, BartKey, BartTrack, Channel, ChannelTarget, ChannelTrack, Clip, Node, NodePose, Rig, TrackError,
+    BART_MIN_KEYS,
+};
 use crate::{LoadError, Warning};
-use glam::{Quat, Vec3};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -106,6 +106,18 @@ impl Keyframes {
                 return Err(t.error(w.line, format!("`k {}`: `{}` given twice", name.text, w.text)));
             }
             let n = t.count(&format!("`{}` key count", w.text))?;
+            if n < BART_MIN_KEYS {
+                return Err(t.error(
+                    w.line,
+                    format!(
+                        "`{}` in `k {}` has {n} key{}: BART tracks need at least {BART_MIN_KEYS} \
+                         (the first and the last only give the end tangents; BART's parse.c refuses fewer)",
+                        w.text,
+                        name.text,
+                        if n == 1 { "" } else { "s" }
+                    ),
+                ));
+            }
             let mut keys = Vec::with_capacity(super::lexer::reserve(t, n, 4 + width));
             for k in 0..n {
                 let what = format!("`{}` key {} of {n} in `k {}`", w.text, k + 1, name.text);
@@ -204,12 +216,12 @@ fn channels(
     for (keys, target, what) in parts {
         let Some(keys) = keys else { continue };
         let track = track(block, keys, target, what, range, warnings)?;
-        out.push(Channel { node, target, track });
+        out.push(Channel { node, target, track: ChannelTrack::Bart(track) });
     }
     Ok(())
 }
 
-/// One track from its keys (module docs: duplicates, order, range, rotations).
+/// One track from its keys (module docs: order, range, rotations).
 fn track(
     block: &KeyBlock,
     keys: &[RawKey],
@@ -217,50 +229,29 @@ fn track(
     what: &str,
     range: Option<&Range>,
     warnings: &mut Vec<Warning>,
-) -> Result<Track, LoadError> {
+) -> Result<BartTrack, LoadError> {
     let err = |line: usize, m: String| LoadError::parse(&block.path, Some(line), m);
-    if keys.is_empty() {
-        return Err(err(block.line, format!("`{what}` has no keys")));
+    if keys.len() < BART_MIN_KEYS {
+        // `read_k` refuses these; kept so that this function stands on its own.
+        let line = keys.first().map_or(block.line, |k| k.line);
+        return Err(err(line, format!("`{what}`: {}", TrackError::TooFewBartKeys { keys: keys.len() })));
     }
-    let mut kept: Vec<RawKey> = Vec::with_capacity(keys.len());
-    let (mut repeated, mut backwards) = (None, None);
-    for k in keys {
-        if let Some(prev) = kept.last() {
-            if k.time == prev.time {
-                if k.value != prev.value || k.tcb != prev.tcb {
-                    repeated = repeated.or(Some(k.line));
-                }
-                continue;
-            }
-            if k.time < prev.time {
-                backwards = backwards.or(Some((k.line, k.time, prev.time)));
-                continue;
-            }
-        }
-        kept.push(*k);
-    }
-    if let Some(line) = repeated {
+    if let Some(w) = keys.windows(2).find(|w| w[1].time < w[0].time) {
         warnings.push(Warning::new(
             &block.path,
-            Some(line),
-            format!("`{what}`: keys repeating the previous key's time with other values are ignored (the first here)"),
-        ));
-    }
-    if let Some((line, time, prev)) = backwards {
-        warnings.push(Warning::new(
-            &block.path,
-            Some(line),
-            format!("`{what}`: key at time {time} comes after a key at time {prev}; keys not after every earlier key are ignored"),
+            Some(w[1].line),
+            format!(
+                "`{what}`: key at time {} comes after a key at time {}; kept, as BART's reference code keeps it \
+                 (each time is evaluated on the first segment ending after it)",
+                w[1].time, w[0].time
+            ),
         ));
     }
     if let Some(r) = range {
-        // Tracks may run past the range (BART pads them, and authors keys beyond the
-        // end); a track of several keys that the range never reaches only ever shows
-        // one held value, so its keys are a mistake.
-        let (first, last) = (kept[0], *kept.last().expect("a track has keys"));
-        let outside = if kept.len() < 2 {
-            None
-        } else if last.time < r.start {
+        // The track moves from key 1 to key n−2 and holds outside: a moving part wholly
+        // outside the range only ever shows one held value, so its keys are a mistake.
+        let (first, last) = (keys[1], keys[keys.len() - 2]);
+        let outside = if last.time < r.start {
             Some(last)
         } else if first.time > r.end {
             Some(first)
@@ -272,7 +263,8 @@ fn track(
                 k.line,
                 format!(
                     "`{what}` key at time {} is outside the animation range {}..{} (`a` at {}:{}), \
-                     and so are all the track's keys: no frame shows them",
+                     and so are all the keys the track moves through (the second to the second-to-last): \
+                     no frame shows its motion",
                     k.time,
                     r.start,
                     r.end,
@@ -282,27 +274,30 @@ fn track(
             ));
         }
     }
-    let times: Vec<f32> = kept.iter().map(|k| k.time).collect();
-    let tcb: Vec<[f32; 3]> = kept.iter().map(|k| k.tcb).collect();
-    let rotation = target == ChannelTarget::Rotation;
-    let mut values = Vec::with_capacity(kept.len() * 4);
-    for k in &kept {
-        if rotation {
-            let [x, y, z, deg] = k.value;
-            let axis = Vec3::new(x, y, z);
-            let q = if axis.length_squared() > 0.0 {
-                Quat::from_axis_angle(axis.normalize(), deg.to_radians())
-            } else if deg == 0.0 {
-                Quat::IDENTITY
-            } else {
-                return Err(err(k.line, format!("`{what}` key at time {}: the rotation axis is zero", k.time)));
-            };
-            values.extend_from_slice(&q.to_array());
-        } else {
-            values.extend_from_slice(&k.value[..3]);
-        }
-    }
-    let width = if rotation { 4 } else { 3 };
-    let made = Track::tcb(times, width, values, tcb).and_then(|t| if rotation { t.into_rotation() } else { Ok(t) });
-    made.map_err(|e| err(keys[0].line, format!("`{what}`: {e}")))
+    let made = if target == ChannelTarget::Rotation {
+        let keys: Vec<_> = keys
+            .iter()
+            .map(|k| {
+                let [x, y, z, degrees] = k.value;
+                bart_key(k, AxisAngle { axis: [x, y, z], degrees })
+            })
+            .collect();
+        BartTrack::rotation(&keys)
+    } else {
+        let keys: Vec<_> = keys.iter().map(|k| bart_key(k, [k.value[0], k.value[1], k.value[2]])).collect();
+        BartTrack::vector(&keys)
+    };
+    made.map_err(|e| {
+        let line = match e {
+            TrackError::NonFiniteTime { key } | TrackError::NonFiniteValue { key } | TrackError::ZeroAxis { key } => {
+                keys[key].line
+            }
+            _ => keys[0].line,
+        };
+        err(line, format!("`{what}`: {e}"))
+    })
+}
+
+fn bart_key<V>(k: &RawKey, value: V) -> BartKey<V> {
+    BartKey { time: k.time, value, tension: k.tcb[0], continuity: k.tcb[1], bias: k.tcb[2] }
 }

@@ -12,7 +12,7 @@
 //! without morph targets.
 
 use super::accessor::{check_accessor_with, read_components};
-use crate::animation::{Channel, ChannelTarget, Clip, Interpolation, NodePose, Rig, Track};
+use crate::animation::{Channel, ChannelTarget, ChannelTrack, Clip, Interpolation, NodePose, Rig, Track};
 use crate::report::Warning;
 use gltf::accessor::{DataType, Dimensions};
 use gltf::animation::Property;
@@ -204,7 +204,7 @@ pub(super) fn read_clips(
             };
             let track = if target == ChannelTarget::Rotation { track.and_then(Track::into_rotation) } else { track };
             let track = track.map_err(|e| format!("{here}: {e}"))?;
-            channels.push(Channel { node, target, track });
+            channels.push(Channel { node, target, track: ChannelTrack::Keyframes(track) });
         }
         clips.push(Clip { name: anim.name().map(str::to_string), channels });
     }
