@@ -259,3 +259,19 @@ fn scene_layouts_of_the_robots() {
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("layered"));
 }
+
+/// Regression (issue 43): `--fps 5e9` makes a timeline of 2^32 frames; `animate` listed
+/// them all and aborted on an 8 GiB allocation. It refuses with the count and the way
+/// out, before creating anything, and a range of that timeline still renders.
+#[test]
+fn a_timeline_of_billions_of_frames_is_refused_not_an_abort() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("frames");
+    let o = animate(&out, &["--fps", "5e9"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("more than 1000000") && err.contains("--frames A..B"), "{err}");
+    assert!(!err.contains("panicked") && !out.exists(), "{err}");
+    ok(animate(&out, &["--fps", "5e9", "--frames", "1000..1001"]));
+    assert_eq!(frames_in(&out).len(), 2);
+}

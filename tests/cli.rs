@@ -196,6 +196,43 @@ fn wrong_ray_shape_is_rejected() {
     );
 }
 
+/// A `.npy` whose header claims `shape` (any numbers) over a few bytes of data.
+fn lying_npy(shape: &str, fortran: bool) -> Vec<u8> {
+    let order = if fortran { "True" } else { "False" };
+    let mut dict = format!("{{'descr': '<f4', 'fortran_order': {order}, 'shape': {shape}, }}");
+    while (10 + dict.len() + 1) % 64 != 0 {
+        dict.push(' ');
+    }
+    dict.push('\n');
+    let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
+    bytes.extend((dict.len() as u16).to_le_bytes());
+    bytes.extend(dict.as_bytes());
+    bytes.extend([0u8; 64]);
+    bytes
+}
+
+/// Regression (issue 43): a ray file whose header promises more rows than the file
+/// holds — 2^60 rows, whose byte count passes 2^64, in C and Fortran order, or a billion
+/// rows over 64 bytes — is a clean error naming the file before anything is allocated
+/// for it (not a wrapped size, an index out of bounds or an 8 GiB allocation).
+#[test]
+fn ray_files_promising_more_rows_than_they_hold_are_clean_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("hits.npz");
+    for (i, (shape, fortran)) in
+        [("(1152921504606846976, 8)", true), ("(1152921504606846976, 8)", false), ("(1000000000, 8)", false)]
+            .into_iter()
+            .enumerate()
+    {
+        let rays = dir.path().join(format!("lying{i}.npy"));
+        std::fs::write(&rays, lying_npy(shape, fortran)).unwrap();
+        let o = dynray(&["trace-rays", &bunny(), "--rays", rays.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+        assert!(stderr(&o).contains("promises"), "{}", stderr(&o));
+        fails_with(o, &format!("lying{i}.npy"));
+        assert!(!out.exists());
+    }
+}
+
 #[test]
 fn nan_ray_is_rejected_with_its_row() {
     let dir = tempfile::tempdir().unwrap();

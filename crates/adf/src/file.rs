@@ -191,17 +191,19 @@ impl Adf {
         if !(1..=MAX_LEVEL).contains(&h.max_level) {
             return Err(corrupt(format!("max level {} outside 1..={MAX_LEVEL}", h.max_level)));
         }
-        // Sizes in u64: a header claiming huge tables overflows nothing and is caught by
-        // the length check before anything is allocated.
-        let slots: u64 = h.block_dims.iter().map(|&d| d as u64).product();
-        let (voxels, table, phi) = (27 * slots, (h.hash_m as u64).pow(3), (h.hash_r as u64).pow(3));
+        // Sizes in u128: three u32 dimensions or a u32 cubed reach 2^96, past u64 (a
+        // header whose product wrapped in u64 loaded and drew wrong pixels). Nothing here
+        // overflows, and a header claiming huge tables is caught by the length check
+        // before anything is allocated; after it, every size fits the file, and usize.
+        let slots: u128 = h.block_dims.iter().map(|&d| d as u128).product();
+        let (voxels, table, phi) = (27 * slots, (h.hash_m as u128).pow(3), (h.hash_r as u128).pow(3));
         if h.wide_ids > 1 {
             return Err(corrupt(format!("identifier width flag {}", h.wide_ids)));
         }
         let high = if h.wide_ids == 1 { table } else { 0 };
-        let expected = hsize as u64 + 4 * voxels + 8 * table + 4 * high + 8 * phi + 4 * h.internal_cells as u64 + 8;
-        if bytes.len() as u64 != expected {
-            return Err(length(expected));
+        let expected = hsize as u128 + 4 * voxels + 8 * table + 4 * high + 8 * phi + 4 * h.internal_cells as u128 + 8;
+        if bytes.len() as u128 != expected {
+            return Err(length(u64::try_from(expected).unwrap_or(u64::MAX)));
         }
         let body = bytes.len() - 8;
         let mut sum = [0u8; 8];
@@ -210,7 +212,7 @@ impl Adf {
             return Err(corrupt("checksum mismatch".into()));
         }
         let n = h.internal_cells as u64;
-        if n == 0 || slots < n || table < n || h.hash_r == 0 || h.block_dims.contains(&0) {
+        if n == 0 || slots < n as u128 || table < n as u128 || h.hash_r == 0 || h.block_dims.contains(&0) {
             return Err(corrupt(format!(
                 "{n} internal cells do not fit {slots} blocks or a {}^3 cell table",
                 h.hash_m

@@ -267,6 +267,17 @@ fn files_round_trip_and_damage_is_an_error() {
     let mut huge = bytes.clone();
     huge[24..28].copy_from_slice(&u32::MAX.to_le_bytes());
     assert!(matches!(Adf::from_bytes(&huge, p), Err(FileError::Length { .. })));
+    // Regression (issue 43): sizes whose product passes 2^64 — block dimensions of
+    // 2^31 × 2^31 × 4, a cell table of (2^22)^3 — overflowed the u64 size arithmetic
+    // (a panic with overflow checks, a wrapped size without): a length error now.
+    let mut wraps = bytes.clone();
+    for (i, d) in [1u32 << 31, 1 << 31, 4].into_iter().enumerate() {
+        wraps[24 + 4 * i..28 + 4 * i].copy_from_slice(&d.to_le_bytes());
+    }
+    assert!(matches!(Adf::from_bytes(&wraps, p), Err(FileError::Length { .. })));
+    let mut cube = bytes.clone();
+    cube[36..40].copy_from_slice(&(1u32 << 22).to_le_bytes());
+    assert!(matches!(Adf::from_bytes(&cube, p), Err(FileError::Length { expected: u64::MAX, .. })));
     let msg = Adf::from_bytes(&bytes[..bytes.len() - 1], p).unwrap_err().to_string();
     assert!(msg.starts_with("x.adf: "), "{msg}");
 }

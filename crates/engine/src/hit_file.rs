@@ -71,6 +71,17 @@ pub fn read_rays(path: &Path, note: &mut dyn FnMut(String)) -> Result<Vec<Ray>> 
     let n = shape[0];
     let fortran = npy.order() == npyz::Order::Fortran;
     let descr = npy.dtype().descr();
+    // The header may promise any number of rows: refuse one the file cannot hold before
+    // anything is allocated for it (a product past u64 wrapped into a small one).
+    let item = if descr == "'<f8'" { 8 } else { 4 };
+    let file_len = std::fs::metadata(path).map(|m| m.len()).unwrap_or(u64::MAX);
+    match n.checked_mul(8 * item) {
+        Some(bytes) if bytes <= file_len => {}
+        _ => bail!(
+            "{}: the header promises {n} rays of 8 values, more than the file's {file_len} bytes hold",
+            path.display()
+        ),
+    }
     let truncated = || format!("{}: truncated or unreadable data", path.display());
     let (mut data, converted): (Vec<f32>, bool) = if descr == "'<f4'" {
         (npy.into_vec().with_context(truncated)?, false)

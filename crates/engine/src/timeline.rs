@@ -64,6 +64,9 @@ pub fn shape_timeline(scene: &mut Scene, label: &str, clip: Option<&str>, fps: O
             bail!("{label}: {e}");
         }
     }
+    if scene.animation.timeline.frames == 0 {
+        bail!("{label}: the animation has no frames");
+    }
     if let Some(rate) = fps {
         if !(rate > 0.0 && rate.is_finite()) {
             bail!("--fps must be a positive number, got {rate}");
@@ -86,6 +89,9 @@ pub fn chosen_time(scene: &Scene, label: &str, when: &TimeChoice) -> Result<f32>
         return Ok(t);
     }
     let k = when.frame.unwrap_or(0);
+    if timeline.frames == 0 {
+        bail!("{label}: the animation has no frames");
+    }
     if k >= timeline.frames {
         bail!(
             "{label}: frame {k} is past the last frame, {} (the animation has {} frames)",
@@ -117,6 +123,16 @@ mod tests {
         assert_eq!(frame_zero(&s), -1.0);
         assert_eq!(chosen_time(&s, "x", &TimeChoice::default()).unwrap(), -1.0);
         assert_eq!(chosen_time(&s, "x", &TimeChoice { frame: Some(5), ..Default::default() }).unwrap(), -0.5);
+    }
+
+    #[test]
+    fn a_timeline_without_frames_is_an_error_not_frame_4294967295() {
+        let mut s = Scene::default();
+        s.animation.timeline.frames = 0;
+        let e = TimeChoice::default().apply(&mut s, "a.aff").unwrap_err().to_string();
+        assert_eq!(e, "a.aff: the animation has no frames");
+        let e = chosen_time(&s, "a.aff", &TimeChoice::default()).unwrap_err().to_string();
+        assert_eq!(e, "a.aff: the animation has no frames");
     }
 
     #[test]

@@ -23,6 +23,10 @@ use std::time::{Duration, Instant};
 /// Columns of `timings.csv`, one row per rendered frame.
 pub const TIMINGS_HEADER: &str = "frame,time_s,pose_ms,update,update_ms,sah_ratio,render_ms,time_to_image_ms,rays";
 
+/// Most frames one run renders (a shard's, with `--shard`): a million PNGs is days of
+/// rendering already, and the run keeps its list of frames in memory.
+pub const MAX_FRAMES_PER_RUN: u64 = 1_000_000;
+
 /// `DIR/frame_NNNN.png`.
 pub fn frame_path(dir: &Path, k: u32) -> PathBuf {
     dir.join(format!("frame_{k:04}.png"))
@@ -122,7 +126,7 @@ impl AnimateJob {
         loaded.shade(self.flat_shading)?;
         shape_timeline(&mut loaded.scene, &label, self.clip.as_deref(), self.fps)?;
         let timeline = loaded.scene.animation.timeline;
-        let last_frame = timeline.frames - 1;
+        let last_frame = timeline.frames - 1; // shape_timeline refuses a timeline without frames
         let (first, last) = self.frames.unwrap_or((0, last_frame));
         if last > last_frame {
             bail!(
@@ -132,6 +136,16 @@ impl AnimateJob {
             );
         }
         let (shard, shards) = self.shard.unwrap_or((0, 1));
+        // The frames of this shard, counted before anything lists them: a timeline of 2^32
+        // frames (an AFF `a 0 1 4000000000`, `--fps 5e9`) must not become an 8 GiB list.
+        let mine_count = shard_frames(first, last, shard, shards);
+        if mine_count > MAX_FRAMES_PER_RUN {
+            bail!(
+                "{label}: {mine_count} frames to render in one run ({first}..={last}{}), more than {MAX_FRAMES_PER_RUN}: \
+                 choose a range with --frames A..B or split the run with --shard K/N",
+                if shards > 1 { format!(", shard {shard}/{shards}") } else { String::new() }
+            );
+        }
         // Refused options and a missing GPU fail before anything is written.
         let options =
             RenderOptions { spp: self.spp, seed: self.seed, integrator: self.integrator, ..Default::default() };
@@ -220,6 +234,13 @@ impl AnimateJob {
     }
 }
 
+/// How many frames `k` of `first..=last` have `k % shards == shard`, without listing them.
+fn shard_frames(first: u32, last: u32, shard: u32, shards: u32) -> u64 {
+    // Frames of 0..=x that are the shard's.
+    let upto = |x: u64| if x < shard as u64 { 0 } else { (x - shard as u64) / shards as u64 + 1 };
+    upto(last as u64) - if first == 0 { 0 } else { upto(first as u64 - 1) }
+}
+
 /// The timings file: new (with its header), or appended to when resuming one that has
 /// rows already (rows are written only after their frame's PNG, so none is repeated).
 fn open_timings(path: &Path, resume: bool) -> Result<BufWriter<File>> {
@@ -253,4 +274,22 @@ pub fn write_obj(frame: &Frame, path: &Path) -> Result<()> {
     }
     tmp.persist(path).map_err(|e| e.error).with_context(|| format!("{}: cannot write", path.display()))?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::shard_frames;
+
+    #[test]
+    fn shard_frames_count_what_the_filter_lists() {
+        for (first, last) in [(0, 0), (0, 9), (3, 17), (5, 5), (7, 100)] {
+            for shards in 1..5 {
+                for shard in 0..shards {
+                    let listed = (first..=last).filter(|k| k % shards == shard).count() as u64;
+                    assert_eq!(shard_frames(first, last, shard, shards), listed, "{first}..={last} {shard}/{shards}");
+                }
+            }
+        }
+        assert_eq!(shard_frames(0, u32::MAX, 0, 1), 1 << 32);
+    }
 }

@@ -67,7 +67,9 @@ impl Timeline {
 
     /// Frames at `frame_rate` covering `start..=end` (a glTF clip's key range).
     pub fn covering(start: f32, end: f32, frame_rate: f32) -> Timeline {
-        let frames = ((end - start).max(0.0) as f64 * frame_rate as f64 + 1e-4).floor() as u32 + 1;
+        // `as u32` saturates; the frame at `start` is added without wrapping past u32::MAX
+        // (`--fps 5e9` on a 1 s clip asks for more frames than a u32 counts).
+        let frames = (((end - start).max(0.0) as f64 * frame_rate as f64 + 1e-4).floor() as u32).saturating_add(1);
         Timeline { start, frames, frame_rate }
     }
 }

@@ -66,7 +66,12 @@ fn matrix(
     if shape.len() != 2 || shape[1] != 3 {
         return Err(bad(format!("shape must be (K, 3), found {shape:?}")));
     }
-    let rows = shape[0] as usize;
+    // A header may claim any shape: a product past usize (or u64) wrapped into a small
+    // one and read the data wrongly or indexed out of bounds (issue 43).
+    let rows = match shape[0].checked_mul(3).and_then(|n| usize::try_from(n).ok()) {
+        Some(_) => shape[0] as usize,
+        None => return Err(bad(format!("shape ({}, 3) is larger than any array this machine can hold", shape[0]))),
+    };
     let fortran = npy.order() == npyz::Order::Fortran;
     let descr = npy.dtype().descr();
     let read = |e: std::io::Error| bad(format!("truncated or unreadable data: {e}"));
