@@ -1,6 +1,8 @@
 //! End-to-end tests of the `dynray` binary: real files in, real files out, and every
 //! bad-input path giving one clear message, a non-zero exit and no partial output.
 
+mod support;
+
 use npyz::WriterBuilder;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -38,17 +40,6 @@ fn fails_with(o: Output, needle: &str) {
     assert!(!err.contains("panicked"), "{err}");
 }
 
-fn write_npy(path: &Path, rows: &[[f32; 8]]) {
-    let mut w = npyz::WriteOptions::new()
-        .default_dtype()
-        .shape(&[rows.len() as u64, 8])
-        .writer(std::fs::File::create(path).unwrap())
-        .begin_nd()
-        .unwrap();
-    w.extend(rows.iter().flatten().copied()).unwrap();
-    w.finish().unwrap();
-}
-
 fn read_npz<T: npyz::Deserialize>(path: &Path, name: &str) -> Vec<T> {
     let mut npz = npyz::npz::NpzArchive::open(path).unwrap();
     npz.by_name(name).unwrap().unwrap_or_else(|| panic!("no array {name}")).into_vec().unwrap()
@@ -73,7 +64,7 @@ fn bunny_rays() -> Vec<[f32; 8]> {
 fn trace_rays_matches_between_structures_and_brute_and_writes_npz() {
     let dir = tempfile::tempdir().unwrap();
     let rays = dir.path().join("rays.npy");
-    write_npy(&rays, &bunny_rays());
+    support::write_rays_npy(&rays, &bunny_rays());
     let mut results = Vec::new();
     for accel in ["brute", "bvh", "bih:max_prims=5", "octree:high_quality"] {
         let out = dir.path().join(format!("{}.npz", accel.replace(':', "_")));
@@ -108,7 +99,7 @@ fn trace_rays_matches_between_structures_and_brute_and_writes_npz() {
 fn trace_rays_occluded_agrees_with_hits() {
     let dir = tempfile::tempdir().unwrap();
     let rays = dir.path().join("rays.npy");
-    write_npy(&rays, &bunny_rays());
+    support::write_rays_npy(&rays, &bunny_rays());
     let hits = dir.path().join("h.npz");
     let occ = dir.path().join("o.npz");
     let r = rays.to_str().unwrap();
@@ -237,7 +228,7 @@ fn ray_files_promising_more_rows_than_they_hold_are_clean_errors() {
 fn nan_ray_is_rejected_with_its_row() {
     let dir = tempfile::tempdir().unwrap();
     let rays = dir.path().join("nan.npy");
-    write_npy(&rays, &[[0.0; 8], [f32::NAN, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]]);
+    support::write_rays_npy(&rays, &[[0.0; 8], [f32::NAN, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]]);
     let out = dir.path().join("hits.npz");
     fails_with(
         dynray(&["trace-rays", &bunny(), "--rays", rays.to_str().unwrap(), "-o", out.to_str().unwrap()]),
@@ -249,7 +240,7 @@ fn nan_ray_is_rejected_with_its_row() {
 fn unwritable_output_is_a_clean_error() {
     let dir = tempfile::tempdir().unwrap();
     let rays = dir.path().join("rays.npy");
-    write_npy(&rays, &bunny_rays());
+    support::write_rays_npy(&rays, &bunny_rays());
     fails_with(
         dynray(&["trace-rays", &bunny(), "--rays", rays.to_str().unwrap(), "-o", "/nonexistent-dir/hits.npz"]),
         "/nonexistent-dir/hits.npz",
@@ -370,7 +361,7 @@ fn float64_and_fortran_order_rays_are_converted_and_give_the_same_hits() {
         (t, read_npz::<i64>(&out, "prim"), stderr(&o))
     };
     let plain = dir.path().join("f32.npy");
-    write_npy(&plain, &rows);
+    support::write_rays_npy(&plain, &rows);
     let (t, prim, note) = run(&plain, "f32");
     assert!(!note.contains("note"), "{note}");
     for (fortran, what) in [(false, "float64"), (true, "float64 in Fortran order")] {
@@ -386,7 +377,7 @@ fn float64_and_fortran_order_rays_are_converted_and_give_the_same_hits() {
 fn trace_rays_output_must_be_an_npz_file() {
     let dir = tempfile::tempdir().unwrap();
     let rays = dir.path().join("rays.npy");
-    write_npy(&rays, &bunny_rays());
+    support::write_rays_npy(&rays, &bunny_rays());
     for (out, needle) in [("-", "not a stream"), ("hits.npy", "name the output *.npz")] {
         let o = dynray(&["trace-rays", &bunny(), "--rays", rays.to_str().unwrap(), "-o", out]);
         fails_with(o, needle);
@@ -399,7 +390,7 @@ fn fields_add_normals_and_points_of_the_hits() {
     let dir = tempfile::tempdir().unwrap();
     let rays_path = dir.path().join("rays.npy");
     let rows = bunny_rays();
-    write_npy(&rays_path, &rows);
+    support::write_rays_npy(&rays_path, &rows);
     let out = dir.path().join("hits.npz");
     let args = ["trace-rays", &bunny(), "--rays", rays_path.to_str().unwrap(), "-o", out.to_str().unwrap()];
     ok(dynray(&[&args[..], &["--fields", "prim,u,v,normal,point"]].concat()));
@@ -455,7 +446,7 @@ fn trace_rays_on_the_gpu_writes_the_cpus_hits() {
     assert!(out.contains("self-check"), "{out}");
     let dir = tempfile::tempdir().unwrap();
     let rays = dir.path().join("rays.npy");
-    write_npy(&rays, &bunny_rays());
+    support::write_rays_npy(&rays, &bunny_rays());
     let r = rays.to_str().unwrap();
     let (cpu, gpu) = (dir.path().join("cpu.npz"), dir.path().join("gpu.npz"));
     ok(dynray(&["trace-rays", &bunny(), "--rays", r, "-o", cpu.to_str().unwrap()]));
