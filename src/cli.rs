@@ -146,7 +146,7 @@ pub struct RenderArgs {
     /// 2 = direct light only (overrides the file's `max_depth`).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     pub max_depth: Option<u32>,
-    /// Secondary rays at or below this weight are not traced (overrides `min_weight`).
+    /// Secondary rays at or below this weight (0 to 1) are not traced (overrides `min_weight`).
     #[arg(long)]
     pub min_weight: Option<f32>,
     /// Acceleration structure: `NAME[:key=value,…]` or `NAME:PRESET` (docs/bench.md,

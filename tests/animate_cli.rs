@@ -275,3 +275,17 @@ fn a_timeline_of_billions_of_frames_is_refused_not_an_abort() {
     ok(animate(&out, &["--fps", "5e9", "--frames", "1000..1001"]));
     assert_eq!(frames_in(&out).len(), 2);
 }
+
+/// Regression (issue 43): `--resume` took a 0-byte frame for a rendered one.
+#[test]
+fn resume_renders_an_empty_frame_again() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("frames");
+    ok(animate(&out, &["--frames", "0..1"]));
+    let want = frames_in(&out);
+    std::fs::write(out.join("frame_0001.png"), b"").unwrap();
+    let o = ok(animate(&out, &["--frames", "0..1", "--resume"]));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("resuming: 1 of 2 frames already there"), "{err}");
+    assert_eq!(frames_in(&out), want);
+}

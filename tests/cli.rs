@@ -268,6 +268,17 @@ fn info_lists_every_structure_from_the_descriptor_table() {
     assert!(row("kdtree").contains("rebuild") && row("kdtree").split_whitespace().nth(2) == Some("no"), "{text}");
 }
 
+/// Regression (issue 43): `--min-weight=-1` (or 2, or NaN) was accepted.
+#[test]
+fn min_weight_outside_zero_to_one_is_refused() {
+    for w in ["-1", "2", "NaN"] {
+        let out = std::env::temp_dir().join("dynray-min-weight-never-written.png");
+        let o = dynray(&["render", &format!("--min-weight={w}"), "-o", out.to_str().unwrap()]);
+        fails_with(o, "--min-weight must be a weight in 0..=1");
+        assert!(!out.exists());
+    }
+}
+
 #[test]
 fn closed_stdout_pipe_exits_quietly() {
     // `dynray info bunny | head -1`: the reader goes away before dynray writes.

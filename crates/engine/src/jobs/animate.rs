@@ -163,7 +163,10 @@ impl AnimateJob {
         let out = &self.out;
         std::fs::create_dir_all(out).with_context(|| format!("{}: cannot create the output folder", out.display()))?;
         let mine: Vec<u32> = (first..=last).filter(|k| k % shards == shard).collect();
-        let todo: Vec<u32> = mine.iter().copied().filter(|&k| !(self.resume && frame_path(out, k).is_file())).collect();
+        // A frame counts as done when its PNG is there and not empty (frames are renamed
+        // into place whole, but a disk that filled up or a copy may leave 0 bytes).
+        let done = |k: u32| std::fs::metadata(frame_path(out, k)).is_ok_and(|m| m.is_file() && m.len() > 0);
+        let todo: Vec<u32> = mine.iter().copied().filter(|&k| !(self.resume && done(k))).collect();
         if todo.len() < mine.len() {
             events(AnimateEvent::Resuming { done: mine.len() - todo.len(), of: mine.len() });
         }

@@ -148,8 +148,9 @@ impl RenderJob {
             }
         }
         if let Some(m) = self.min_weight {
-            if !m.is_finite() {
-                bail!("--min-weight must be a finite number, got {m}");
+            // The scene language's range (docs/scene-language.md, `settings`).
+            if !(0.0..=1.0).contains(&m) {
+                bail!("--min-weight must be a weight in 0..=1, got {m}");
             }
         }
         self.when.check()?;
