@@ -29,6 +29,10 @@ pub const DEFAULT_SPP: u32 = 9;
 /// Most samples per pixel a job accepts (samples × passes included).
 pub const MAX_SPP: u32 = 1 << 16;
 
+/// The policy of a render's structures: one frame, no update follows, so `auto`'s SAH
+/// cost of the fresh build (a tree walk, or a read-back on the GPU) would be wasted.
+const ONE_FRAME: UpdatePolicy = UpdatePolicy::Rebuild;
+
 /// A render's progress: (tiles done, tiles in all).
 pub type Progress<'a> = &'a (dyn Fn(usize, usize) + Sync);
 
@@ -254,7 +258,7 @@ impl RenderJob {
         options: RenderOptions,
     ) -> Result<Rendered> {
         let describe_fields = fields.describe(stage.frame());
-        let mut tracer = Tracer::cpu(&self.accel, UpdatePolicy::default(), self.scene_accel, fields);
+        let mut tracer = Tracer::cpu(&self.accel, ONE_FRAME, self.scene_accel, fields);
         let build = tracer
             .update(stage.scene(), stage.frame())
             .with_context(|| format!("{label}: cannot build {}", self.accel))?
@@ -309,7 +313,7 @@ impl RenderJob {
     ) -> Result<Rendered> {
         let how = self.backend.gpu_build;
         let choice = GpuChoice { options: gpu, build: how, strategy: self.gpu_strategy };
-        let mut tracer = Tracer::gpu(&self.accel, UpdatePolicy::default(), options, choice)
+        let mut tracer = Tracer::gpu(&self.accel, ONE_FRAME, options, choice)
             .with_context(|| format!("{label}: cannot build {}", self.accel))?;
         let build = tracer
             .update(stage.scene(), stage.frame())
