@@ -10,7 +10,8 @@
 //!   distance fields beside the triangles, the GPU's device BVH), both following the one
 //!   update policy ([`dynray_accel::PolicyState`]).
 //! - [`jobs`]: render, animate and trace, built from plain option structs, every option
-//!   combination checked before any work, progress through callbacks.
+//!   combination checked before any work, progress through callbacks; [`Live`], the
+//!   viewer's progressive frames over the same render job.
 //!
 //! Errors are `anyhow` chains: the engine adds file, frame and option context to the
 //! typed errors of the crates below it, and front ends print the chain (the binary) or
@@ -32,6 +33,7 @@ pub use backend::BackendChoice;
 pub use fields::Fields;
 pub use frame_step::{FrameSettings, FrameStep, PoseTiming, Stage, StepReport};
 pub use jobs::animate::{AnimateEvent, AnimateJob};
+pub use jobs::live::{Live, LiveFrame};
 pub use jobs::render::{RenderJob, Rendered};
 pub use jobs::trace::{Query, TraceJob};
 pub use load::Loaded;

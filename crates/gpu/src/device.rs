@@ -42,7 +42,7 @@ impl Exactness {
 }
 
 /// Which adapter to open and how.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct GpuOptions {
     /// A case-insensitive substring of the adapter's name (`--gpu-adapter`); `None` reads
     /// `DYNRAY_GPU_ADAPTER`, and without it the most capable adapter is chosen (discrete,

@@ -70,6 +70,18 @@ impl Film {
         }
     }
 
+    /// Adds every pixel of `other` (its sums and weights) into this film: a progressive
+    /// frame's samples into the accumulated image. Panics unless the sizes match.
+    pub fn add_film(&mut self, other: &Film) {
+        assert_eq!((self.width, self.height), (other.width, other.height), "films of different sizes");
+        for (s, o) in self.sum.iter_mut().zip(&other.sum) {
+            *s += *o;
+        }
+        for (w, o) in self.weight.iter_mut().zip(&other.weight) {
+            *w += *o;
+        }
+    }
+
     /// Sets pixel `(x, y)` to exactly `c` (weight 1), discarding what it held.
     pub fn set(&mut self, x: u32, y: u32, c: Color) {
         if x < self.width && y < self.height {

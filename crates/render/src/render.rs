@@ -18,6 +18,14 @@
 //! indices `p · spp .. (p + 1) · spp`), so the passes of a deterministic camera converge
 //! to the image the same `spp` gives with an integrator that draws no random numbers
 //! (Whitted's), which is what the cumulative integrator's passes are for.
+//!
+//! Progressive frames (the live viewer): a render of `spp: 1` with
+//! [`RenderOptions::pattern`] `Some(n)` and [`RenderOptions::first_sample`] `k` draws
+//! exactly sample `k` of each pixel of an `spp: n` render. Added into one film with
+//! [`Film::add_film`] for `k = 0, 1, …, n − 1`, the film holds the same sums, summed in
+//! the same order, as the `spp: n` render's, so it resolves to the same bits; frames
+//! `n .. 2n` then add the samples of the second pass of `passes: 2`, and so on (one at a
+//! time where a pass adds their sum, so those films agree to rounding).
 
 use crate::{
     Aov, AovIntegrator, CameraRays, Film, Integrator, IntegratorKind, IntegratorParams, RayCounts, Sampler,
@@ -57,6 +65,16 @@ pub struct RenderOptions<'a> {
     /// Called after each pass with its number (1 = the first) and the film so far, on
     /// the calling thread: the progressive image.
     pub pass_done: Option<&'a PassCallback<'a>>,
+    /// Index of the first sample this render draws: sample `s` of pass `p` is sample
+    /// `first_sample + p · spp + s` of its pixel (its sub-pixel position and random
+    /// streams). 0 for a whole image; a progressive front end that draws one sample per
+    /// frame passes the frame's number (module docs, "Progressive frames").
+    pub first_sample: u32,
+    /// The sub-pixel pattern's sample count; `None`: `spp`. Sample `i` lies at position
+    /// `i mod pattern` of the `pattern`-sample pattern, so renders of one sample each
+    /// with `pattern: Some(n)` and `first_sample` 0, 1, … draw exactly the samples of one
+    /// `spp: n` render (module docs, "Progressive frames").
+    pub pattern: Option<u32>,
 }
 
 impl Default for RenderOptions<'_> {
@@ -72,6 +90,8 @@ impl Default for RenderOptions<'_> {
             passes: 1,
             progress: None,
             pass_done: None,
+            first_sample: 0,
+            pattern: None,
         }
     }
 }
@@ -87,6 +107,8 @@ impl std::fmt::Debug for RenderOptions<'_> {
             .field("passes", &self.passes)
             .field("progress", &self.progress.map(|_| "callback"))
             .field("pass_done", &self.pass_done.map(|_| "callback"))
+            .field("first_sample", &self.first_sample)
+            .field("pattern", &self.pattern)
             .finish()
     }
 }
@@ -153,7 +175,15 @@ pub fn render_with(frame: &Frame, integrator: &dyn Integrator, options: &RenderO
     };
 
     for pass in 0..passes {
-        let job = TileJob { camera: &camera, integrator, seed: options.seed, width: w, spp, first_sample: pass * spp };
+        let job = TileJob {
+            camera: &camera,
+            integrator,
+            seed: options.seed,
+            width: w,
+            spp,
+            pattern: options.pattern.unwrap_or(spp).max(1),
+            first_sample: options.first_sample.wrapping_add(pass * spp),
+        };
         let tiles: Vec<(Vec<Color>, RayCounts)> = (0..tiles_per_pass)
             .into_par_iter()
             .map(|i| {
@@ -188,7 +218,10 @@ struct TileJob<'a> {
     seed: u64,
     width: u32,
     spp: u32,
-    /// Index of the pass's first sample (`pass · spp`): its samplers' streams.
+    /// The sub-pixel pattern's sample count ([`RenderOptions::pattern`]).
+    pattern: u32,
+    /// Index of the pass's first sample (`first_sample + pass · spp`): its samplers'
+    /// streams and pattern positions.
     first_sample: u32,
 }
 
@@ -211,7 +244,8 @@ impl TileJob<'_> {
                 samplers.clear();
                 for &(x, y) in group {
                     for s in s0..s1 {
-                        let sampler = Sampler::new(self.seed, self.width, x, y, self.first_sample + s, self.spp);
+                        let sampler =
+                            Sampler::new(self.seed, self.width, x, y, self.first_sample.wrapping_add(s), self.pattern);
                         let (ox, oy) = sampler.pixel_offset();
                         rays.push(self.camera.ray_at(x as f32 + ox, y as f32 + oy));
                         samplers.push(sampler);

@@ -2,6 +2,7 @@
 //! combination before any work, then runs through the frame step and the tracer seam.
 
 pub mod animate;
+pub mod live;
 mod preview;
 pub mod render;
 pub mod trace;

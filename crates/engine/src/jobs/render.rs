@@ -235,7 +235,7 @@ impl RenderJob {
         self.triangles_on_cpu(stage, &label, fields, RenderOptions { progress, ..options })
     }
 
-    fn frame_settings(&self) -> FrameSettings {
+    pub(crate) fn frame_settings(&self) -> FrameSettings {
         FrameSettings {
             width: self.width,
             height: self.height,
