@@ -1,6 +1,6 @@
 //! The interface every acceleration structure implements.
 
-use crate::{BuildError, TraversalCounts};
+use crate::{BuildError, OutlineBox, TraversalCounts};
 use dynray_geom::{Hit, Ray, TriangleMesh, Vec3};
 
 /// A ray-query structure over one triangle mesh.
@@ -112,6 +112,17 @@ pub trait Accel: Send + Sync + std::any::Any {
     /// than rebuilding, so timing a rebuild separately tells something new.
     fn update_refits(&self) -> bool {
         false
+    }
+
+    /// The structure's boxes down to depth `max_depth` (the root is depth 0), pushed onto
+    /// `out`: node bounds (BVH, wide BVH, BIH), cells (kd-trees, octrees, grid cells that hold
+    /// triangles), ... Default: the structure draws no outline (pushes nothing).
+    ///
+    /// What the live viewer's "boxes" view draws. `out` is appended to, never cleared;
+    /// boxes come parents before children. Each structure documents its own choice of
+    /// boxes on its `outline.rs`.
+    fn outline(&self, max_depth: u32, out: &mut Vec<OutlineBox>) {
+        let _ = (max_depth, out);
     }
 }
 

@@ -7,8 +7,8 @@
 
 use crate::bvh::{scan, KernelChoice, TriBlock};
 use crate::InvalidStructure;
-use crate::{Accel, AccelStats, BuildError, Counter, NoCount, TraversalCounts};
-use dynray_geom::{Hit, PreparedRay, Ray, TriangleMesh};
+use crate::{Accel, AccelStats, BuildError, Counter, NoCount, OutlineBox, TraversalCounts};
+use dynray_geom::{Aabb, Hit, PreparedRay, Ray, TriangleMesh};
 
 /// Tests every triangle, in index order (on equal `t` the lower index wins).
 pub struct Brute {
@@ -16,13 +16,15 @@ pub struct Brute {
     blocks: Vec<TriBlock>,
     triangles: usize,
     kernel: KernelChoice,
+    /// Box of the triangles, kept for [`Accel::outline`] only (a scan needs none).
+    bounds: Aabb,
 }
 
 impl Brute {
     /// Copies the mesh's triangles.
     pub fn build(mesh: &TriangleMesh) -> Result<Self, BuildError> {
         mesh.validate()?;
-        let mut b = Self { blocks: Vec::new(), triangles: 0, kernel: KernelChoice::detect() };
+        let mut b = Self { blocks: Vec::new(), triangles: 0, kernel: KernelChoice::detect(), bounds: Aabb::EMPTY };
         b.copy(mesh);
         Ok(b)
     }
@@ -33,6 +35,7 @@ impl Brute {
         self.blocks.clear();
         TriBlock::pack(&tris, &ids, &mut self.blocks);
         self.triangles = tris.len();
+        self.bounds = tris.iter().fold(Aabb::EMPTY, |b, t| b.union(&t.bounds()));
     }
 
     /// The block kernel it tests with (`scalar`, `avx2` or `avx512`).
@@ -108,5 +111,30 @@ impl Accel for Brute {
         mesh.validate()?;
         self.copy(mesh);
         Ok(())
+    }
+
+    /// One leaf: the box of the mesh (kept by `copy`), which every ray scans whole.
+    fn outline(&self, _max_depth: u32, out: &mut Vec<OutlineBox>) {
+        if self.triangles > 0 {
+            out.push(OutlineBox { depth: 0, bounds: self.bounds, leaf: true });
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::outline::checks::{self, Cover};
+
+    #[test]
+    fn outline_is_the_mesh_box_as_one_leaf() {
+        let mut mesh = checks::mesh();
+        let mut brute = Brute::build(&mesh).unwrap();
+        assert_eq!(checks::check(&brute, &mesh, Cover::Centroids), 0);
+        assert_eq!(checks::outline(&brute, 7), [OutlineBox { depth: 0, bounds: mesh.bounds(), leaf: true }]);
+        // An update moves the box with the vertices.
+        mesh.positions.iter_mut().for_each(|p| p[1] += 3.0);
+        brute.update(&mesh).unwrap();
+        assert_eq!(checks::outline(&brute, 0)[0].bounds, mesh.bounds());
     }
 }

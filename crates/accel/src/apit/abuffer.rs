@@ -6,7 +6,7 @@ use super::node::{Fragment, NONE};
 use super::params::{ApitParams, Observer};
 use super::query::{any, closest, Candidates};
 use crate::InvalidStructure;
-use crate::{Accel, AccelStats, BuildError, Counter, NoCount, TraversalCounts};
+use crate::{Accel, AccelStats, BuildError, Counter, NoCount, OutlineBox, TraversalCounts};
 use dynray_geom::{Hit, Ray, TriangleMesh, Vec3};
 use std::ops::ControlFlow;
 
@@ -146,5 +146,10 @@ impl Accel for ABuffer {
             self.base.params = self.base.params.with_observer(eye);
         }
         self.update(mesh)
+    }
+
+    /// The cube of A-buffers around the observer, one leaf (outline.rs).
+    fn outline(&self, _max_depth: u32, out: &mut Vec<OutlineBox>) {
+        self.base.outline(out);
     }
 }

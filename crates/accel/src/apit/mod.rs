@@ -23,6 +23,7 @@ mod abuffer;
 mod build;
 mod cube;
 mod node;
+mod outline;
 mod params;
 pub mod pit;
 mod query;

@@ -3,7 +3,7 @@
 //! node box, and the seed's "shrink" step (`BihParams::shrink`).
 //!
 //! Files: `node.rs` (encoding), `params.rs`, `build.rs`, `traverse.rs`, `refit.rs`,
-//! `validate.rs`.
+//! `validate.rs`, `outline.rs` (the viewer's boxes).
 //!
 //! Measured (release, 2 loaded cores, 200k rays from outside aimed into the box; per ray
 //! single-threaded). Work per ray is exact, Mrays/s are ±15 % noise:
@@ -31,6 +31,7 @@
 mod build;
 mod cost;
 mod node;
+mod outline;
 mod params;
 mod refit;
 mod traverse;
@@ -42,7 +43,7 @@ pub use validate::InvalidBih;
 
 use crate::InvalidStructure;
 use crate::StructureParams;
-use crate::{Accel, AccelStats, BuildError, NoCount, TraversalCounts};
+use crate::{Accel, AccelStats, BuildError, NoCount, OutlineBox, TraversalCounts};
 use dynray_geom::{Aabb, Hit, Ray, Triangle, TriangleMesh};
 use rayon::prelude::*;
 
@@ -166,5 +167,10 @@ impl Accel for Bih {
 
     fn update_refits(&self) -> bool {
         true
+    }
+
+    /// Node boxes derived from the scene box and the clip planes (outline.rs).
+    fn outline(&self, max_depth: u32, out: &mut Vec<OutlineBox>) {
+        self.outline_boxes(max_depth, out);
     }
 }

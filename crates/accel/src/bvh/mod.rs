@@ -8,7 +8,7 @@
 //! `traverse.rs`, `packet.rs`, `packet_avx2.rs` and `packet_traverse.rs` (8-ray packets
 //! for coherent rays), `stream.rs` (batches: two incoherent rays in flight per thread, or
 //! one after the other on one stack, any-hit ones with a last-occluder cache),
-//! `refit.rs`, `validate.rs`.
+//! `refit.rs`, `validate.rs`, `outline.rs` (the viewer's boxes).
 //!
 //! This is `--accel bvh`, the default structure and the CPU's fast path. The binary tree
 //! it collapses (crates/accel/src/bvh, `--accel bvh2`) stays what the GPU backend uploads. Figures and what did not pay: docs/structures.md, "The wide BVH".
@@ -21,6 +21,7 @@ mod kernel_avx2;
 #[cfg(target_arch = "x86_64")]
 mod kernel_avx512;
 pub mod node;
+mod outline;
 mod packet;
 #[cfg(target_arch = "x86_64")]
 mod packet_avx2;
@@ -42,7 +43,7 @@ pub use params::{HugePages, WbvhParams, HUGE_PAGES_MIN_BYTES};
 pub use stream::{looks_coherent, Interleave, INTERLEAVE_MIN_BYTES};
 pub use validate::InvalidWbvh;
 
-use crate::{Accel, AccelStats, BuildError, Bvh, BvhNode, InvalidStructure, NoCount, TraversalCounts};
+use crate::{Accel, AccelStats, BuildError, Bvh, BvhNode, InvalidStructure, NoCount, OutlineBox, TraversalCounts};
 use dynray_geom::{Hit, Ray, TriangleMesh};
 pub(crate) use kernel::KernelChoice;
 use packet_traverse::{AnyHits, ClosestHits, PacketScratch, PacketWalk};
@@ -310,6 +311,11 @@ impl Accel for Wbvh {
 
     fn update_refits(&self) -> bool {
         true
+    }
+
+    /// The root's box, then each child box one level below its node (outline.rs).
+    fn outline(&self, max_depth: u32, out: &mut Vec<OutlineBox>) {
+        with_tree!(self, t => t.outline(max_depth, out))
     }
 }
 

@@ -8,7 +8,7 @@
 //! Files: [`params`] (presets), [`node`] (encoding), `build.rs` (parallel deterministic
 //! builder: binning and the SAH sweep), `partition.rs` (its serial and parallel
 //! partitions), `prim_ref.rs` (the 32-byte triangle references they move), `assemble.rs` (joining the parallel subtrees), `traverse.rs` (closest and any hit), `closest.rs` (closest-point query),
-//! `refit.rs`, `validate.rs`, `reinsert.rs` (the `high_quality` presets' SAH
+//! `refit.rs`, `validate.rs`, `outline.rs` (the viewer's boxes), `reinsert.rs` (the `high_quality` presets' SAH
 //! optimisation pass).
 //!
 //! Leaf size `M` (the seed found 5): measured with `benches/bvh.rs` on this 2-core machine,
@@ -18,6 +18,7 @@ mod assemble;
 mod build;
 mod closest;
 pub mod node;
+pub(crate) mod outline;
 pub mod params;
 mod partition;
 mod presplit;
@@ -33,7 +34,7 @@ pub use params::BvhParams;
 pub use validate::{BvhStats, InvalidBvh};
 
 use crate::InvalidStructure;
-use crate::{Accel, AccelStats, BuildError, NoCount, TraversalCounts};
+use crate::{Accel, AccelStats, BuildError, NoCount, OutlineBox, TraversalCounts};
 use dynray_geom::{Hit, Ray, Triangle, TriangleMesh};
 
 /// A binned-SAH BVH over one mesh.
@@ -210,6 +211,11 @@ impl Accel for Bvh {
 
     fn update_refits(&self) -> bool {
         true
+    }
+
+    /// Every node's box, leaves marked (outline.rs).
+    fn outline(&self, max_depth: u32, out: &mut Vec<OutlineBox>) {
+        outline::outline_nodes(&self.nodes, max_depth, out);
     }
 
     /// The formula of `stats` (validate.rs) in one pass over the node array, without the

@@ -18,9 +18,10 @@
 //! references and 15–20 % of triangle tests for a 2–3× slower build.
 //!
 //! Files: `params.rs`, `shape.rs` (cell arithmetic), `build.rs` (cells by `dynray_geom::triangle_box_overlap`),
-//! `build.rs`, `traverse.rs`, `validate.rs`.
+//! `build.rs`, `traverse.rs`, `validate.rs`, `outline.rs` (the viewer's cells).
 
 mod build;
+mod outline;
 mod params;
 mod shape;
 mod traverse;
@@ -32,7 +33,7 @@ pub use validate::InvalidGrid;
 
 use crate::InvalidStructure;
 use crate::StructureParams;
-use crate::{Accel, AccelStats, BuildError, NoCount, TraversalCounts};
+use crate::{Accel, AccelStats, BuildError, NoCount, OutlineBox, TraversalCounts};
 use dynray_geom::{Aabb, Hit, Ray, Triangle, TriangleMesh};
 use rayon::prelude::*;
 
@@ -138,5 +139,10 @@ impl Accel for Grid {
         }
         *self = Self::build(mesh, &self.params)?;
         Ok(())
+    }
+
+    /// The grid's bounds, then its non-empty cells at depth 1 (outline.rs).
+    fn outline(&self, max_depth: u32, out: &mut Vec<OutlineBox>) {
+        self.outline_cells(max_depth, out);
     }
 }

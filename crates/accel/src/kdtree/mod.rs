@@ -8,11 +8,12 @@
 //! Files: params.rs (presets), node.rs (8-byte node, rope record), clip.rs (polygon
 //! clipping), build.rs, tree.rs (the arrays), traverse.rs (stack), ropes.rs (rope
 //! construction), traverse_ropes.rs (stackless walk), validate.rs (checks and stats),
-//! standard.rs and stackless.rs (the two `Accel` types).
+//! standard.rs and stackless.rs (the two `Accel` types), outline.rs (the viewer's cells).
 
 mod build;
 mod clip;
 mod node;
+mod outline;
 mod params;
 mod ropes;
 mod stackless;

@@ -9,7 +9,7 @@ use super::traverse::down;
 use super::traverse_ropes::walk;
 use super::tree::Tree;
 use crate::InvalidStructure;
-use crate::{Accel, AccelStats, BuildError, Counter, NoCount, TraversalCounts};
+use crate::{Accel, AccelStats, BuildError, Counter, NoCount, OutlineBox, TraversalCounts};
 use dynray_geom::{Hit, PreparedRay, Ray, TriangleMesh};
 
 /// SAH kd-tree with Ropes++ stackless traversal (`--accel kdtree-ropes`).
@@ -129,6 +129,11 @@ impl Accel for KdTreeRopes {
         }
         *self = Self::build_with(mesh, &self.tree.params)?;
         Ok(())
+    }
+
+    /// The cells of the tree, as `kdtree` draws them (outline.rs); ropes are not drawn.
+    fn outline(&self, max_depth: u32, out: &mut Vec<OutlineBox>) {
+        self.tree.outline(max_depth, out);
     }
 }
 

@@ -5,7 +5,7 @@ use super::node::KdNode;
 use super::params::KdTreeParams;
 use super::tree::Tree;
 use crate::InvalidStructure;
-use crate::{Accel, AccelStats, BuildError, Counter, NoCount, TraversalCounts};
+use crate::{Accel, AccelStats, BuildError, Counter, NoCount, OutlineBox, TraversalCounts};
 use dynray_geom::{Hit, PreparedRay, Ray, TriangleMesh};
 
 /// SAH kd-tree traversed front to back with a stack (`--accel kdtree`).
@@ -86,5 +86,10 @@ impl Accel for KdTree {
         }
         *self = Self::build_with(mesh, &self.tree.params)?;
         Ok(())
+    }
+
+    /// The cells, split by split (outline.rs).
+    fn outline(&self, max_depth: u32, out: &mut Vec<OutlineBox>) {
+        self.tree.outline(max_depth, out);
     }
 }

@@ -28,11 +28,13 @@
 //!
 //! Files: `params.rs`, `node.rs` (encodings), `tables.rs` (the seed's lookup tables and
 //! their convention), `build.rs`, `walk.rs` (the seed's
-//! traversal), `descent.rs` (Revelles et al. 2000), `validate.rs`.
+//! traversal), `descent.rs` (Revelles et al. 2000), `validate.rs`, `outline.rs` (the viewer's
+//! cells).
 
 mod build;
 mod descent;
 mod node;
+mod outline;
 mod params;
 mod tables;
 mod validate;
@@ -45,7 +47,7 @@ pub use validate::InvalidOctree;
 
 use crate::InvalidStructure;
 use crate::StructureParams;
-use crate::{Accel, AccelStats, BuildError, NoCount, TraversalCounts};
+use crate::{Accel, AccelStats, BuildError, NoCount, OutlineBox, TraversalCounts};
 use build::Frame;
 use dynray_geom::{Aabb, Hit, Ray, Triangle, TriangleMesh};
 use std::mem::size_of;
@@ -229,6 +231,11 @@ impl Accel for Octree {
     fn update(&mut self, mesh: &TriangleMesh) -> Result<(), BuildError> {
         self.rebuild(mesh)
     }
+
+    /// The cube's cells, leaves marked (outline.rs).
+    fn outline(&self, max_depth: u32, out: &mut Vec<OutlineBox>) {
+        self.outline_cells(max_depth, out);
+    }
 }
 
 /// The same octree traversed top-down from the root (Revelles et al. 2000), the seed's
@@ -276,5 +283,10 @@ impl Accel for OctreeDescent {
 
     fn update(&mut self, mesh: &TriangleMesh) -> Result<(), BuildError> {
         self.0.rebuild(mesh)
+    }
+
+    /// The same cells as `octree` (outline.rs).
+    fn outline(&self, max_depth: u32, out: &mut Vec<OutlineBox>) {
+        self.0.outline_cells(max_depth, out);
     }
 }

@@ -22,6 +22,7 @@
 
 mod build;
 mod live;
+mod outline;
 mod top;
 mod traverse;
 mod validate;

@@ -3,7 +3,7 @@
 //! `t`, then the lower *frame* triangle).
 
 use super::{Instance, TwoLevel};
-use crate::{Accel, AccelStats, BuildError, Counter, InvalidStructure, NoCount, TraversalCounts};
+use crate::{Accel, AccelStats, BuildError, Counter, InvalidStructure, NoCount, OutlineBox, TraversalCounts};
 use dynray_geom::{Hit, PreparedRay, Ray, TriangleMesh};
 
 impl Instance {
@@ -276,5 +276,10 @@ impl Accel for TwoLevel {
             message: "a two-level structure is updated from the frame's actors (LiveScene::update), not from a mesh"
                 .into(),
         })
+    }
+
+    /// The top-level tree down to the instances' world boxes, nothing below (outline.rs).
+    fn outline(&self, max_depth: u32, out: &mut Vec<OutlineBox>) {
+        self.outline_top(max_depth, out);
     }
 }
