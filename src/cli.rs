@@ -5,7 +5,7 @@ use clap::{Args, Parser, Subcommand};
 use dynray_accel::{AccelSpec, SceneLayout, UpdatePolicy};
 use dynray_bench::{BenchConfig, Framing, Preset, RayKind};
 use dynray_engine::hit_file::HitField;
-use dynray_engine::{BackendChoice, TimeChoice};
+use dynray_engine::{BackendChoice, RenderJob, TimeChoice};
 use dynray_gpu::{Backend, GpuBuild, GpuOptions, GpuStrategy};
 use dynray_render::{Aov, IntegratorKind};
 use std::path::PathBuf;
@@ -40,6 +40,48 @@ pub enum Command {
     /// Adaptively sampled distance fields (docs/adf.md): `adf build` makes a .adf file
     /// from a mesh, which `render` and `info` then read.
     Adf(AdfArgs),
+    /// Ray trace a scene live in a window (docs/view.md): orbit, pan, zoom and fly; play
+    /// its animation; switch structure, integrator and backend; heat map and boxes.
+    View(ViewArgs),
+}
+
+/// `dynray view`.
+#[derive(Args, Debug)]
+pub struct ViewArgs {
+    /// Scene or mesh file; without it, the built-in demo scene.
+    pub scene: Option<PathBuf>,
+    #[command(flatten)]
+    pub image: ImageArgs,
+    /// How the structures follow an animated scene: `auto` (refit until the SAH cost
+    /// grows by 30 %, then rebuild), `refit`, `rebuild`, or `auto:RATIO`.
+    #[arg(long, default_value = "auto", value_parser = |s: &str| s.parse::<UpdatePolicy>())]
+    pub update: UpdatePolicy,
+    /// Start playing the animation (real time, looping).
+    #[arg(long)]
+    pub play: bool,
+    /// The starting view: image, heatmap (nodes + triangles per primary ray) or
+    /// boxes[:DEPTH] (the structure's boxes or cells over the image; depth 3 by default).
+    #[arg(long, value_name = "VIEW", value_parser = |s: &str| s.parse::<dynray_view::Show>())]
+    #[cfg(feature = "view")]
+    pub show: Option<dynray_view::Show>,
+    /// Input events, one per line: `wait N` (frames), `key NAME`, `drag X0 Y0 X1 Y1`
+    /// (left button, window pixels), `scroll N`; `#` comments (docs/view.md).
+    #[arg(long, value_name = "FILE")]
+    pub script: Option<PathBuf>,
+    /// Close the window after this many frames.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+    pub exit_after: Option<u64>,
+    /// Write the window's content (overlays included unless --no-overlay) to this PNG
+    /// when it closes.
+    #[arg(long, value_name = "FILE.png")]
+    pub screenshot: Option<PathBuf>,
+    /// Show the image alone: no panel or statistics.
+    #[arg(long)]
+    pub no_overlay: bool,
+    /// Write one CSV row per frame (pose, physics, update, trace, view, present; rays)
+    /// when the window closes.
+    #[arg(long, value_name = "FILE.csv")]
+    pub timings: Option<PathBuf>,
 }
 
 /// `dynray adf`.
@@ -135,6 +177,24 @@ pub struct RenderArgs {
     /// Output image: .png, .bmp or .exr.
     #[arg(short, long, default_value = "dynray.png")]
     pub output: PathBuf,
+    /// Cumulative integrator: sample passes of --spp samples per pixel each, accumulated
+    /// into the image (progressive refinement; passes × spp samples in all). Default 1.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=MAX_SPP as i64))]
+    pub passes: Option<u32>,
+    /// Write one channel of the pixel-centre rays instead of colour, as float EXR:
+    /// depth (t, +inf on a miss), normal (shading normal), prim (triangle index, -1 on a
+    /// miss) or albedo (diffuse colour).
+    #[arg(long, value_parser = PossibleValuesParser::new(Aov::NAMES)
+        .map(|s| s.parse::<Aov>().expect("listed names parse")))]
+    pub aov: Option<Aov>,
+    #[command(flatten)]
+    pub image: ImageArgs,
+}
+
+/// What an image is made of, shared by `render` and `view`: size, structure, integrator,
+/// samples, instant, camera and backend.
+#[derive(Args, Debug, Clone)]
+pub struct ImageArgs {
     /// Image width in pixels (overrides the scene's settings).
     #[arg(long, value_parser = edge_parser())]
     pub width: Option<u32>,
@@ -172,10 +232,6 @@ pub struct RenderArgs {
     /// max_recursion_level - 1 or more expands everything (Whitted's image). Default 2.
     #[arg(long, value_name = "K")]
     pub branch_depth: Option<u32>,
-    /// Cumulative integrator: sample passes of --spp samples per pixel each, accumulated
-    /// into the image (progressive refinement; passes × spp samples in all). Default 1.
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=MAX_SPP as i64))]
-    pub passes: Option<u32>,
     /// Seed of the sample positions and of every random choice an integrator makes.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
@@ -183,12 +239,6 @@ pub struct RenderArgs {
     /// neither generated nor from files (to compare with the default smooth shading).
     #[arg(long)]
     pub flat_shading: bool,
-    /// Write one channel of the pixel-centre rays instead of colour, as float EXR:
-    /// depth (t, +inf on a miss), normal (shading normal), prim (triangle index, -1 on a
-    /// miss) or albedo (diffuse colour).
-    #[arg(long, value_parser = PossibleValuesParser::new(Aov::NAMES)
-        .map(|s| s.parse::<Aov>().expect("listed names parse")))]
-    pub aov: Option<Aov>,
     #[command(flatten)]
     pub when: TimeArgs,
     #[command(flatten)]
@@ -197,6 +247,37 @@ pub struct RenderArgs {
     #[arg(long, default_value = "wavefront", value_parser = PossibleValuesParser::new(GpuStrategy::NAMES)
         .map(|s| s.parse::<GpuStrategy>().expect("listed names parse")))]
     pub gpu_strategy: GpuStrategy,
+    /// The camera, replacing the scene's: the inside of a scene-language `camera { … }`
+    /// statement, e.g. `perspective position <0, 2, 7> to <0, 0.7, 0> up <0, 1, 0> angle 40`
+    /// (`dynray view` shows the current one in this form).
+    #[arg(long, value_name = "CAMERA", value_parser = |s: &str| dynray_engine::parse_camera(s).map_err(|e| e.to_string()))]
+    pub camera: Option<dynray_scene::Camera>,
+}
+
+impl ImageArgs {
+    /// The engine's render job of these options (no output, AOV or passes).
+    pub fn job(&self) -> RenderJob {
+        RenderJob {
+            output: None,
+            width: self.width,
+            height: self.height,
+            max_depth: self.max_depth,
+            min_weight: self.min_weight,
+            accel: self.accel.clone(),
+            scene_accel: self.scene_accel,
+            integrator: self.integrator,
+            spp: self.spp,
+            branch_depth: self.branch_depth,
+            passes: None,
+            seed: self.seed,
+            flat_shading: self.flat_shading,
+            aov: None,
+            when: self.when.choice(),
+            camera: self.camera,
+            backend: self.backend.choice(),
+            gpu_strategy: self.gpu_strategy,
+        }
+    }
 }
 
 /// Default samples per pixel of `render` (the engine's): enough for clean silhouettes

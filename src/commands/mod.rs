@@ -8,6 +8,7 @@ mod bench;
 mod info;
 mod render;
 mod trace_rays;
+mod view;
 
 use crate::cli::{Cli, Command};
 use anyhow::{Context, Result};
@@ -27,6 +28,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Animate(a) => animate::run(a),
         Command::Bench(a) => bench::run(a),
         Command::Adf(a) => adf::run(a),
+        Command::View(a) => view::run(a),
     }
 }
 

@@ -8,25 +8,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::time::{Duration, Instant};
 
 pub fn run(a: RenderArgs) -> Result<()> {
-    let job = RenderJob {
-        output: Some(a.output.clone()),
-        width: a.width,
-        height: a.height,
-        max_depth: a.max_depth,
-        min_weight: a.min_weight,
-        accel: a.accel,
-        scene_accel: a.scene_accel,
-        integrator: a.integrator,
-        spp: a.spp,
-        branch_depth: a.branch_depth,
-        passes: a.passes,
-        seed: a.seed,
-        flat_shading: a.flat_shading,
-        aov: a.aov,
-        when: a.when.choice(),
-        backend: a.backend.choice(),
-        gpu_strategy: a.gpu_strategy,
-    };
+    let job = RenderJob { output: Some(a.output.clone()), passes: a.passes, aov: a.aov, ..a.image.job() };
     // Option combinations fail at once, before the scene is read.
     job.check()?;
     let loaded = super::load(a.scene.as_deref())?;

@@ -17,17 +17,9 @@ const BAR_PANEL: u32 = 150;
 /// Height of the title band.
 const TITLE: u32 = 70;
 
-/// The value the colour scale tops out at: the 99.5th percentile, so a handful of
-/// pathological rays does not wash out the rest (pixels above it take the top colour,
-/// and the bar's label says so).
-pub fn scale_max(work: &[u32]) -> u32 {
-    if work.is_empty() {
-        return 1;
-    }
-    let mut s = work.to_vec();
-    s.sort_unstable();
-    s[((s.len() - 1) as f64 * 0.995) as usize].max(1)
-}
+/// The value the colour scale tops out at (the engine's, which the viewer's live heat
+/// map shares; pixels above it take the top colour, and the bar's label says so).
+pub use dynray_engine::heat::scale_max;
 
 /// Draws the heat map of `work` (row-major, `width` × `height`) with `title` and writes
 /// it as PNG to `path`.

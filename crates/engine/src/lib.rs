@@ -20,9 +20,11 @@
 #![deny(missing_docs)]
 
 pub mod backend;
+pub mod camera_text;
 pub mod fields;
 pub mod format;
 pub mod frame_step;
+pub mod heat;
 pub mod hit_file;
 pub mod jobs;
 pub mod load;
@@ -30,6 +32,7 @@ pub mod timeline;
 pub mod tracer;
 
 pub use backend::BackendChoice;
+pub use camera_text::{camera_text, parse_camera};
 pub use fields::Fields;
 pub use frame_step::{FrameSettings, FrameStep, PoseTiming, Stage, StepReport};
 pub use jobs::animate::{AnimateEvent, AnimateJob};

@@ -104,12 +104,13 @@ impl Live {
         let tracer = make_tracer(&job, policy, &fields)?;
         let s = &stage.frame().settings;
         let full_size = (s.width, s.height);
+        let camera = job.camera;
         Ok(Live {
             job,
             policy,
             step: FrameStep::new(stage, tracer),
             fields,
-            camera: None,
+            camera,
             time,
             scale: 1.0,
             pool: None,
@@ -202,16 +203,12 @@ impl Live {
         }
     }
 
-    /// Follows the scene's camera again.
+    /// Back to the job's camera (`--camera`), else the scene's.
     pub fn reset_camera(&mut self) {
-        if self.camera.take().is_some() {
+        if self.camera != self.job.camera {
+            self.camera = self.job.camera;
             self.dirty.pose = true;
         }
-    }
-
-    /// True while the user's camera replaces the scene's.
-    pub fn camera_moved(&self) -> bool {
-        self.camera.is_some()
     }
 
     /// Renders at `scale` (in (0, 1]) of the job's image size, the viewer's resolution

@@ -70,6 +70,8 @@ pub struct RenderJob {
     pub aov: Option<Aov>,
     /// The instant.
     pub when: TimeChoice,
+    /// A camera replacing the scene's (`--camera`, [`crate::parse_camera`]).
+    pub camera: Option<Camera>,
     /// CPU or GPU.
     pub backend: BackendChoice,
     /// Seed 003's GPU strategy.
@@ -94,6 +96,7 @@ impl Default for RenderJob {
             flat_shading: false,
             aov: None,
             when: TimeChoice::default(),
+            camera: None,
             backend: BackendChoice::default(),
             gpu_strategy: GpuStrategy::Wavefront,
         }
@@ -173,9 +176,12 @@ impl RenderJob {
         loaded.shade(self.flat_shading)?;
         let label = loaded.label.clone();
         let time = self.when.apply(&mut loaded.scene, &label)?;
-        let camera_given = loaded.scene.camera.is_some();
+        let camera_given = loaded.scene.camera.is_some() || self.camera.is_some();
         let mut stage = Stage::new(loaded.scene, &label, self.frame_settings())?;
         stage.pose(time)?;
+        if let Some(c) = self.camera {
+            stage.frame_mut().camera = c;
+        }
         let spp = self.spp.or(stage.frame().settings.spp).unwrap_or(DEFAULT_SPP).min(MAX_SPP);
         let passes = self.passes.unwrap_or(1);
         if spp as u64 * passes as u64 > MAX_SPP as u64 {
