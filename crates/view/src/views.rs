@@ -169,9 +169,9 @@ impl Canvas<'_> {
             let (x, y) = (x as u32, y as u32);
             if x < self.width && y < self.height {
                 let k = 4 * (y as usize * self.width as usize + x as usize);
-                for c in 0..3 {
-                    let old = self.rgba[k + c] as f32;
-                    self.rgba[k + c] = (old + (colour[c] as f32 - old) * alpha).round() as u8;
+                for (px, &c) in self.rgba[k..k + 3].iter_mut().zip(&colour) {
+                    let old = *px as f32;
+                    *px = (old + (c as f32 - old) * alpha).round() as u8;
                 }
             }
         }
@@ -199,7 +199,7 @@ fn clip(p: (f32, f32), q: (f32, f32), lo: (f32, f32), hi: (f32, f32)) -> Option<
             }
         }
     }
-    (t0 <= t1).then(|| ((p.0 + t0 * dx, p.1 + t0 * dy), (p.0 + t1 * dx, p.1 + t1 * dy)))
+    (t0 <= t1).then_some(((p.0 + t0 * dx, p.1 + t0 * dy), (p.0 + t1 * dx, p.1 + t1 * dy)))
 }
 
 #[cfg(test)]
