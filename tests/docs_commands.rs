@@ -11,8 +11,9 @@
 //!   docs use exist (`scene.scn` is the Whitted example, `mesh.ply` the bunny, `rays.npy`
 //!   the two rays of docs/trace-rays.md's numpy snippet). Renders without a size get
 //!   `--width 64 --height 48` appended to keep the suite fast; nothing else is changed;
-//! - a **parse check** for `bench` (minutes per run): the line with `--help` appended must
-//!   exit 0, which clap allows only when every option and value before it is valid.
+//! - a **parse check** for `bench` (minutes per run) and `view` (a window; tests/view_cli.rs
+//!   runs it under Xvfb): the line with `--help` appended must exit 0, which clap allows
+//!   only when every option and value before it is valid.
 //!
 //! The test fails when it finds fewer commands than the docs hold today, so a change of
 //! the extraction cannot make it pass by finding nothing.
@@ -211,7 +212,7 @@ fn run(d: &Documented, cwd: &Path) -> Result<(), String> {
     if sub == "render" && !args.iter().any(|a| a == "--width" || a == "--height") {
         args.extend(["--width", "64", "--height", "48"].map(String::from));
     }
-    if sub == "bench" {
+    if sub == "bench" || sub == "view" {
         args.push("--help".into());
     }
     let o = Command::new(env!("CARGO_BIN_EXE_dynray")).current_dir(cwd).args(&args).output().expect("run dynray");

@@ -297,6 +297,10 @@ impl App {
         }
         let tl = self.live.timeline();
         let (start, end) = (tl.time_of(0), tl.time_of(tl.frames.saturating_sub(1)));
+        // At most two timeline frames per shown frame: where a frame (physics above all)
+        // takes longer than that, playback slows down instead of spiralling, each frame
+        // owing the simulation more steps than the last.
+        let dt = dt.min(2.0 / tl.frame_rate.max(1e-3));
         let mut t = self.live.time() + dt;
         if end > start && t > end {
             t = start + (t - end) % (end - start);
@@ -364,6 +368,23 @@ impl App {
         let report = self.live.step()?;
         let (rgba, w, h, view_time) = self.view_pixels(&report);
 
+        // This frame's row first, so the panel shows it (present and total follow below).
+        self.rows.push(FrameRow {
+            frame: self.frames,
+            time: self.live.time(),
+            samples: report.samples,
+            width: w,
+            height: h,
+            pose_ms: ms(report.pose),
+            physics_ms: ms(report.physics),
+            update_ms: report.update.map_or(0.0, |u| ms(u.time)),
+            update: report.update.map_or(String::new(), |u| action(u.action).to_string()),
+            render_ms: ms(report.render),
+            view_ms: ms(view_time),
+            present_ms: 0.0,
+            total_ms: 0.0,
+            rays: report.rays,
+        });
         let t_present = Instant::now();
         let window = self.window.clone().expect("a window before frames");
         let presenter = self.presenter.as_mut().expect("a presenter before frames");
@@ -409,23 +430,11 @@ impl App {
         };
         let present = t_present.elapsed();
         self.apply(request, event_loop);
+        if let Some(row) = self.rows.last_mut() {
+            row.present_ms = ms(present);
+            row.total_ms = ms(start.elapsed());
+        }
 
-        self.rows.push(FrameRow {
-            frame: self.frames,
-            time: self.live.time(),
-            samples: report.samples,
-            width: w,
-            height: h,
-            pose_ms: ms(report.pose),
-            physics_ms: ms(report.physics),
-            update_ms: report.update.map_or(0.0, |u| ms(u.time)),
-            update: report.update.map_or(String::new(), |u| action(u.action).to_string()),
-            render_ms: ms(report.render),
-            view_ms: ms(view_time),
-            present_ms: ms(present),
-            total_ms: ms(start.elapsed()),
-            rays: report.rays,
-        });
         self.frames += 1;
         self.last_frame = Some(start);
         if let (Some(shot), Some(path)) = (shot, &self.options.screenshot) {

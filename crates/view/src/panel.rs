@@ -53,30 +53,33 @@ pub struct PanelState<'a> {
 pub fn draw(ctx: &egui::Context, s: &PanelState<'_>) -> Request {
     let mut req = Request::default();
     stats(ctx, s);
-    egui::Window::new("dynray").default_pos([8.0, 150.0]).default_open(false).resizable(false).show(ctx, |ui| {
-        structure(ui, s, &mut req);
-        ui.separator();
-        image(ui, s, &mut req);
-        ui.separator();
-        time(ui, s, &mut req);
-        ui.separator();
-        camera(ui, s, &mut req);
-        ui.collapsing("keys", |ui| {
-            egui::Grid::new("keys").show(ui, |ui| {
-                for (name, what) in keys::help() {
-                    ui.monospace(name);
-                    ui.label(what);
+    egui::Window::new("dynray").anchor(egui::Align2::RIGHT_TOP, [-8.0, 8.0]).default_open(false).resizable(false).show(
+        ctx,
+        |ui| {
+            structure(ui, s, &mut req);
+            ui.separator();
+            image(ui, s, &mut req);
+            ui.separator();
+            time(ui, s, &mut req);
+            ui.separator();
+            camera(ui, s, &mut req);
+            ui.collapsing("keys", |ui| {
+                egui::Grid::new("keys").show(ui, |ui| {
+                    for (name, what) in keys::help() {
+                        ui.monospace(name);
+                        ui.label(what);
+                        ui.end_row();
+                    }
+                    ui.monospace("drag");
+                    ui.label("orbit (right button or shift: pan)");
                     ui.end_row();
-                }
-                ui.monospace("drag");
-                ui.label("orbit (right button or shift: pan)");
-                ui.end_row();
-                ui.monospace("wheel");
-                ui.label("zoom");
-                ui.end_row();
+                    ui.monospace("wheel");
+                    ui.label("zoom");
+                    ui.end_row();
+                });
             });
-        });
-    });
+        },
+    );
     req
 }
 
