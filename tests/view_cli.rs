@@ -215,3 +215,41 @@ fn outputs_are_checked_before_anything_opens() {
         assert!(err.contains(want), "{args:?}: {err}");
     }
 }
+
+#[test]
+fn on_the_gpu_the_heat_map_is_the_cpu_structures() {
+    if !support::gpu_present() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let shoot = |backend: &str| {
+        let path = dir.path().join(format!("{backend}.png"));
+        let p = path.to_str().unwrap();
+        let args = [
+            "--backend",
+            backend,
+            "--accel",
+            "bvh2",
+            "--width",
+            "64",
+            "--height",
+            "48",
+            "--spp",
+            "1",
+            "--exit-after",
+            "2",
+            "--no-overlay",
+            "--show",
+            "heatmap",
+            "--screenshot",
+            p,
+        ];
+        view(&args).map(|o| {
+            ok(o);
+            rgb(&path)
+        })
+    };
+    let Some(cpu) = shoot("cpu") else { return };
+    let gpu = shoot("gpu").unwrap();
+    assert_eq!(differing(&cpu, &gpu), 0, "the GPU backend's heat map is drawn from the same bvh2 built on the CPU");
+}

@@ -332,29 +332,35 @@ impl App {
         if report.restarted {
             self.view_cache = None;
         }
-        let mut rgba;
-        match self.show {
-            Show::Heatmap if self.live.accel().is_some() => {
-                if self.view_cache.is_none() {
-                    let accel = self.live.accel().expect("checked");
-                    self.view_cache = Some((0, views::heatmap(self.live.frame(), accel).0));
-                }
-                rgba = self.view_cache.as_ref().map(|(_, p)| p.clone()).unwrap_or_default();
+        let image = to_rgba(&film.to_srgb8());
+        if self.show != Show::Image {
+            if let Err(e) = self.live.build_view_structure() {
+                self.status = format!("{e:#}");
             }
-            Show::Boxes(depth) if self.live.accel().is_some() => {
-                rgba = to_rgba(&film.to_srgb8());
-                let mut boxes = Vec::new();
-                self.live.accel().expect("checked").outline(depth, &mut boxes);
-                views::draw_boxes(&mut rgba, (w, h), self.live.frame(), &boxes);
-            }
-            Show::Heatmap | Show::Boxes(_) => {
-                self.status =
-                    "the heat map and boxes are drawn from the CPU's structures: switch the backend to the CPU"
-                        .to_string();
-                rgba = to_rgba(&film.to_srgb8());
-            }
-            Show::Image => rgba = to_rgba(&film.to_srgb8()),
         }
+        let rgba = match self.show {
+            Show::Image => image,
+            Show::Heatmap => match &self.view_cache {
+                Some((_, pixels)) => pixels.clone(),
+                None => match self.live.view_structure() {
+                    Some(accel) => {
+                        let pixels = views::heatmap(self.live.frame(), accel).0;
+                        self.view_cache = Some((0, pixels.clone()));
+                        pixels
+                    }
+                    None => image,
+                },
+            },
+            Show::Boxes(depth) => {
+                let mut rgba = image;
+                if let Some(accel) = self.live.view_structure() {
+                    let mut boxes = Vec::new();
+                    accel.outline(depth, &mut boxes);
+                    views::draw_boxes(&mut rgba, (w, h), self.live.frame(), &boxes);
+                }
+                rgba
+            }
+        };
         (rgba, w, h, t0.elapsed())
     }
 

@@ -154,7 +154,7 @@ mod tests {
 
     #[test]
     fn wait_zero_waits_for_nothing() {
-        let mut s = Script::parse("key r\nwait 0\nkey h").unwrap();
+        let mut s = Script::parse("key r\nwait 0\nkey 2").unwrap();
         assert_eq!(s.frame_events().len(), 2);
     }
 

@@ -65,6 +65,9 @@ pub struct Live {
     dirty: Dirty,
     /// The job's image size, as the last pose set it.
     full_size: (u32, u32),
+    /// On the GPU: the job's structure built on the CPU over the current frame, for the
+    /// heat map and outlines ([`Live::view_structure`]); dropped at every update.
+    view_accel: Option<Box<dyn Accel>>,
     rendered_size: (u32, u32),
 }
 
@@ -118,6 +121,7 @@ impl Live {
             samples: 0,
             dirty: Dirty { build: true, pose: false, camera: false, image: true },
             full_size,
+            view_accel: None,
             rendered_size: (0, 0),
         })
     }
@@ -286,6 +290,28 @@ impl Live {
         self.step.tracer.accel()
     }
 
+    /// Makes [`Live::view_structure`] available: on the GPU, builds the job's structure on
+    /// the CPU over the current frame (once per update). Nothing to do on the CPU or
+    /// without triangles.
+    pub fn build_view_structure(&mut self) -> Result<()> {
+        let frame = self.step.stage.frame();
+        if self.step.tracer.accel().is_none() && self.view_accel.is_none() && frame.mesh.triangle_count() > 0 {
+            let built = self
+                .job
+                .accel
+                .build(&frame.mesh, Some(frame.camera.position))
+                .with_context(|| format!("{}: cannot build {} for the views", self.label(), self.job.accel))?;
+            self.view_accel = Some(built);
+        }
+        Ok(())
+    }
+
+    /// The structure the views of the structure (heat map, outline) are drawn from: the
+    /// CPU tracer's own, or on the GPU the one [`Live::build_view_structure`] built.
+    pub fn view_structure(&self) -> Option<&dyn Accel> {
+        self.step.tracer.accel().or(self.view_accel.as_deref())
+    }
+
     /// The scene's name in messages.
     pub fn label(&self) -> &str {
         self.step.stage.label()
@@ -324,6 +350,7 @@ impl Live {
         }
         let has_triangles = self.step.stage.frame().mesh.triangle_count() > 0;
         if update && has_triangles {
+            self.view_accel = None;
             let (stage, tracer) = (&self.step.stage, &mut self.step.tracer);
             let label = stage.label().to_string();
             report.update = Some(
