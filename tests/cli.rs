@@ -224,6 +224,31 @@ fn ray_files_promising_more_rows_than_they_hold_are_clean_errors() {
     }
 }
 
+/// Regression (issue 43): a header whose shape's element count passes 2^64 (npyz
+/// multiplies it out while parsing the header) is the same clean error, not an overflow
+/// panic in a debug build.
+#[test]
+fn ray_files_whose_shape_product_overflows_are_clean_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("hits.npz");
+    for (i, (shape, want)) in [
+        ("(4294967296, 4294967296, 8)", "(N, 8)"),
+        ("(4294967296, 4294967296)", "(N, 8)"),
+        ("(18446744073709551615, 8)", "promises"),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let rays = dir.path().join(format!("huge{i}.npy"));
+        std::fs::write(&rays, lying_npy(shape, false)).unwrap();
+        let o = dynray(&["trace-rays", &bunny(), "--rays", rays.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+        assert!(!stderr(&o).contains("panicked"), "{shape}: {}", stderr(&o));
+        assert!(stderr(&o).contains(want), "{shape}: {}", stderr(&o));
+        fails_with(o, &format!("huge{i}.npy"));
+        assert!(!out.exists());
+    }
+}
+
 #[test]
 fn nan_ray_is_rejected_with_its_row() {
     let dir = tempfile::tempdir().unwrap();
