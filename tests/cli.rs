@@ -531,3 +531,26 @@ fn trace_rays_on_the_gpu_writes_the_cpus_hits() {
         "the GPU backend traverses a BVH only",
     );
 }
+
+/// Regression (issue 43): inputs that are not regular files — a device behind a mesh's
+/// name, a named pipe, an include that is a device — are refused at once with what they
+/// are, instead of hanging on the pipe or reading /dev/zero without end.
+#[cfg(unix)]
+#[test]
+fn devices_and_pipes_are_refused_not_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let zero = dir.path().join("zero.ply");
+    std::os::unix::fs::symlink("/dev/zero", &zero).unwrap();
+    let npz = dir.path().join("zero.npz");
+    std::os::unix::fs::symlink("/dev/zero", &npz).unwrap();
+    let fifo = dir.path().join("pipe.obj");
+    assert!(std::process::Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+    let scene = dir.path().join("inc.scn");
+    std::fs::write(&scene, "include \"zero.ply.scn\"\n").unwrap();
+    std::os::unix::fs::symlink("/dev/zero", dir.path().join("zero.ply.scn")).unwrap();
+    for (path, what) in [(&zero, "a device"), (&npz, "a device"), (&fifo, "a named pipe"), (&scene, "a device")] {
+        let o = dynray(&["info", path.to_str().unwrap()]);
+        assert!(stderr(&o).contains(what), "{}: {}", path.display(), stderr(&o));
+        fails_with(o, "not a regular file");
+    }
+}

@@ -164,7 +164,8 @@ impl Adf {
 
     /// Reads and checks a file (module docs).
     pub fn load(path: &Path) -> Result<Self, FileError> {
-        let bytes = std::fs::read(path).map_err(|source| FileError::Io { path: path.to_path_buf(), source })?;
+        let bytes =
+            dynray_geom::file::read(path).map_err(|source| FileError::Io { path: path.to_path_buf(), source })?;
         Self::from_bytes(&bytes, path)
     }
 

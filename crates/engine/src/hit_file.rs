@@ -61,7 +61,7 @@ impl std::str::FromStr for HitField {
 /// (what numpy users often have) converted, with a note saying so.
 /// `note` hears of a conversion (what the binary prints as `dynray: note: …`).
 pub fn read_rays(path: &Path, note: &mut dyn FnMut(String)) -> Result<Vec<Ray>> {
-    let file = std::fs::File::open(path).with_context(|| format!("{}: cannot open", path.display()))?;
+    let file = dynray_geom::file::open(path).with_context(|| format!("{}: cannot open", path.display()))?;
     let npy = npyz::NpyFile::new(std::io::BufReader::new(file))
         .with_context(|| format!("{}: not a valid .npy file", path.display()))?;
     let shape = npy.shape().to_vec();

@@ -15,6 +15,7 @@ use std::path::Path;
 
 /// Reads an `.npz` mesh into a validated mesh.
 pub fn load(path: &Path) -> Result<TriangleMesh, LoadError> {
+    dynray_geom::file::check_regular(path).map_err(|e| LoadError::io(path, e))?;
     let mut npz = NpzArchive::open(path).map_err(|e| LoadError::io(path, e))?;
     let vertices = matrix(&mut npz, path, "vertices", Kind::Float)?;
     let faces = matrix(&mut npz, path, "faces", Kind::Index)?;

@@ -76,7 +76,7 @@ use std::path::Path;
 
 /// Loads an `.obj` file, its material libraries, and builds the scene (see module docs).
 pub fn load(path: &Path) -> Result<LoadReport, LoadError> {
-    let bytes = std::fs::read(path).map_err(|e| LoadError::io(path, e))?;
+    let bytes = dynray_geom::file::read(path).map_err(|e| LoadError::io(path, e))?;
     let text = std::str::from_utf8(&bytes).map_err(|e| {
         let line = bytes[..e.valid_up_to()].iter().filter(|&&b| b == b'\n').count() + 1;
         LoadError::parse(path, Some(line), "not UTF-8 text")
@@ -203,7 +203,7 @@ fn load_library(
     lib: &Path,
     warnings: &mut Vec<Warning>,
 ) -> Result<Vec<MtlMaterial>, LoadError> {
-    let bytes = match std::fs::read(lib) {
+    let bytes = match dynray_geom::file::read(lib) {
         Ok(b) => b,
         Err(e) => {
             warnings.push(Warning::new(

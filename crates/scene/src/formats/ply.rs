@@ -13,7 +13,7 @@ use std::path::Path;
 
 /// Reads a `.ply` or `.ply.gz` file into a validated mesh.
 pub fn load(path: &Path) -> Result<TriangleMesh, LoadError> {
-    let raw = std::fs::read(path).map_err(|e| LoadError::io(path, e))?;
+    let raw = dynray_geom::file::read(path).map_err(|e| LoadError::io(path, e))?;
     let bytes = if raw.starts_with(&[0x1f, 0x8b]) {
         let mut out = Vec::new();
         flate2::read::MultiGzDecoder::new(&raw[..])

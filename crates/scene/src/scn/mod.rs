@@ -69,7 +69,7 @@ pub fn load_scn_report(path: &Path) -> Result<LoadReport, LoadError> {
 /// [`load_scn_report`] without applying the actors' shading
 /// ([`crate::load_file_unshaded`] for `.scn` files).
 pub(crate) fn load_scn_unshaded(path: &Path) -> Result<LoadReport, LoadError> {
-    let text = std::fs::read_to_string(path).map_err(|e| LoadError::io(path, e))?;
+    let text = dynray_geom::file::read_to_string(path).map_err(|e| LoadError::io(path, e))?;
     let canon = path.canonicalize().map_err(|e| LoadError::io(path, e))?;
     let dir = canon.parent().map(Path::to_path_buf).unwrap_or_default();
     on_parser_stack(|| parse(path.display().to_string(), text, &dir, Some(canon)))

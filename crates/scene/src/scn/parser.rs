@@ -490,7 +490,7 @@ impl<'s> Parser<'s> {
             return Err(fail(self, format!("include cycle: `{rel}` is already being read"))
                 .note(format!("cycle: {}", chain.join(" -> "))));
         }
-        let text = std::fs::read_to_string(&canon)
+        let text = dynray_geom::file::read_to_string(&canon)
             .map_err(|e| fail(self, format!("cannot read `{}`: {e}", path.display())))?;
         let file = self.st.sources.add(display_name(&path), canon.clone(), text);
         let dir = canon.parent().map(Path::to_path_buf).unwrap_or_default();

@@ -83,7 +83,7 @@ impl Texture {
             Ok(_) => return Err(TextureError::NotAFile { path: name }),
             Err(source) => return Err(TextureError::Io { path: name, source }),
         }
-        let bytes = std::fs::read(path).map_err(|source| TextureError::Io { path: name.clone(), source })?;
+        let bytes = dynray_geom::file::read(path).map_err(|source| TextureError::Io { path: name.clone(), source })?;
         let ext = path.extension().and_then(|e| e.to_str());
         Texture::decode(name, &bytes, ext, space)
     }

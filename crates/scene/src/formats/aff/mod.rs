@@ -46,7 +46,7 @@ use std::path::Path;
 
 /// Loads an `.aff` or `.nff` file and the files it includes (module docs).
 pub fn load(path: &Path) -> Result<LoadReport, LoadError> {
-    let bytes = std::fs::read(path).map_err(|e| LoadError::io(path, e))?;
+    let bytes = dynray_geom::file::read(path).map_err(|e| LoadError::io(path, e))?;
     let canonical = std::fs::canonicalize(path).map_err(|e| LoadError::io(path, e))?;
     let text = String::from_utf8_lossy(&bytes);
     let mut loader = parser::Loader::default();

@@ -253,7 +253,7 @@ impl Loader {
                 .collect();
             return Err(t.error(line, format!("include cycle: {}", chain.join(" → "))));
         }
-        let bytes = std::fs::read(&file)
+        let bytes = dynray_geom::file::read(&file)
             .map_err(|e| t.error(line, format!("include `{}`: cannot read {}: {e}", name.text, file.display())))?;
         let text = String::from_utf8_lossy(&bytes);
         self.read_file(&file, canonical, &text, *place)

@@ -75,7 +75,7 @@ use std::path::Path;
 
 /// Loads a `.gltf` or `.glb` file into a scene (see module docs).
 pub fn load(path: &Path) -> Result<LoadReport, LoadError> {
-    let bytes = std::fs::read(path).map_err(|e| LoadError::io(path, e))?;
+    let bytes = dynray_geom::file::read(path).map_err(|e| LoadError::io(path, e))?;
     let perr = |m: String| LoadError::parse(path, None, m);
     let gltf::Gltf { document, blob } =
         gltf::Gltf::from_slice_without_validation(&bytes).map_err(|e| perr(format!("glTF: {e}")))?;

@@ -51,7 +51,7 @@ pub(super) fn read(base: &Path, uri: &str) -> Result<Vec<u8>, String> {
         Uri::Data { base64, .. } => BASE64.decode(base64).map_err(|e| format!("data URI: {e}")),
         Uri::File(file) => {
             check_regular_file(&file)?;
-            std::fs::read(&file).map_err(|e| format!("{}: {e}", file.display()))
+            dynray_geom::file::read(&file).map_err(|e| format!("{}: {e}", file.display()))
         }
     }
 }

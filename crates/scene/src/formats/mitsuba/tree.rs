@@ -97,7 +97,7 @@ fn read_file(
     if len > MAX_XML_BYTES {
         return Err(LoadError::parse(path, None, format!("{len} bytes: larger than the {MAX_XML_BYTES}-byte limit")));
     }
-    let text = std::fs::read_to_string(path).map_err(|e| LoadError::io(path, e))?;
+    let text = dynray_geom::file::read_to_string(path).map_err(|e| LoadError::io(path, e))?;
     let doc = roxmltree::Document::parse(&text).map_err(|e| {
         let pos = e.pos();
         LoadError::parse(path, Some(pos.row as usize), format!("XML: {e}"))
