@@ -253,3 +253,28 @@ fn on_the_gpu_the_heat_map_is_the_cpu_structures() {
     let gpu = shoot("gpu").unwrap();
     assert_eq!(differing(&cpu, &gpu), 0, "the GPU backend's heat map is drawn from the same bvh2 built on the CPU");
 }
+
+#[test]
+fn the_gpu_backends_image_goes_to_the_window_on_the_device_and_matches_render() {
+    if !support::gpu_present() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let (shot, want, csv) = (dir.path().join("gpu.png"), dir.path().join("render.png"), dir.path().join("t.csv"));
+    let size = ["--backend", "gpu", "--width", "96", "--height", "72", "--spp", "4"];
+    let mut args: Vec<&str> = size.to_vec();
+    args.extend(["--exit-after", "2", "--no-overlay", "--screenshot", shot.to_str().unwrap()]);
+    args.extend(["--timings", csv.to_str().unwrap()]);
+    let Some(out) = view(&args) else { return };
+    ok(out);
+    let mut args = vec!["render", "-o", want.to_str().unwrap()];
+    args.extend(size);
+    ok(dynray(&args));
+    let (a, b) = (rgb(&shot), rgb(&want));
+    // The device encodes sRGB with its own pow: at most one level from the CPU's.
+    let worst = a.as_raw().iter().zip(b.as_raw()).map(|(x, y)| x.abs_diff(*y)).max().unwrap();
+    assert!(worst <= 1, "the window's GPU image against render --backend gpu: {worst} levels");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let first = text.lines().nth(1).unwrap();
+    assert!(first.ends_with(",device"), "resolved on the window's device, not read back: {first}");
+}

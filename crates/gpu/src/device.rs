@@ -138,6 +138,7 @@ pub fn list_adapters() -> Vec<AdapterSummary> {
 
 /// An open device: what every upload and kernel of this crate goes through.
 pub struct GpuContext {
+    adapter: wgpu::Adapter,
     pub(crate) device: wgpu::Device,
     pub(crate) queue: wgpu::Queue,
     summary: AdapterSummary,
@@ -158,8 +159,29 @@ impl GpuContext {
     /// Opens the adapter `options` names (or the best one) with the features the kernels
     /// use where it has them.
     pub fn new(options: &GpuOptions) -> Result<Self, GpuError> {
-        let inst = instance();
-        let adapters = pollster::block_on(inst.enumerate_adapters(wgpu::Backends::VULKAN));
+        Self::open(&instance(), options, None)
+    }
+
+    /// [`Self::new`] among the adapters of `instance` that can present to `surface`: the
+    /// device a window and the GPU backend share, so the backend's image reaches the
+    /// window without leaving the device ([`crate::DeviceImage`]).
+    pub fn for_surface(
+        instance: &wgpu::Instance,
+        surface: &wgpu::Surface<'_>,
+        options: &GpuOptions,
+    ) -> Result<Self, GpuError> {
+        Self::open(instance, options, Some(surface))
+    }
+
+    fn open(
+        inst: &wgpu::Instance,
+        options: &GpuOptions,
+        surface: Option<&wgpu::Surface<'_>>,
+    ) -> Result<Self, GpuError> {
+        let mut adapters = pollster::block_on(inst.enumerate_adapters(wgpu::Backends::VULKAN));
+        if let Some(surface) = surface {
+            adapters.retain(|a| a.is_surface_supported(surface));
+        }
         if adapters.is_empty() {
             return Err(GpuError::NoAdapter);
         }
@@ -202,6 +224,7 @@ impl GpuContext {
         let (device, queue) = pollster::block_on(adapter.request_device(&desc))
             .map_err(|e| GpuError::RequestDevice { adapter: summary.name.clone(), message: e.to_string() })?;
         Ok(Self {
+            adapter,
             device,
             queue,
             timestamps: features.contains(wgpu::Features::TIMESTAMP_QUERY),
@@ -222,6 +245,21 @@ impl GpuContext {
             .get_or_init(|| GpuContext::new(&GpuOptions::default()).map(Arc::new).map_err(|e| e.to_string()))
             .clone()
             .map_err(|message| GpuError::Device { what: "device", message })
+    }
+
+    /// The wgpu adapter (a window asks it what its surface supports).
+    pub fn wgpu_adapter(&self) -> &wgpu::Adapter {
+        &self.adapter
+    }
+
+    /// The device, for a front end that draws with it (the viewer's window).
+    pub fn device(&self) -> &wgpu::Device {
+        &self.device
+    }
+
+    /// The device's queue.
+    pub fn queue(&self) -> &wgpu::Queue {
+        &self.queue
     }
 
     /// The adapter opened.

@@ -35,4 +35,4 @@ pub use build::{BuildTimings, GpuBuild};
 pub use bvh::GpuBvh;
 pub use device::{list_adapters, AdapterSummary, Exactness, GpuContext, GpuOptions, Precision};
 pub use error::{GpuError, SOFTWARE_DRIVER_HINT};
-pub use render::{GpuIntegrator, GpuRender, GpuRenderOptions, GpuRenderer, GpuStrategy, StageTimings};
+pub use render::{DeviceImage, GpuIntegrator, GpuRender, GpuRenderOptions, GpuRenderer, GpuStrategy, StageTimings};

@@ -23,6 +23,8 @@ pub(crate) const WHITTED_SHADE: &str = include_str!("../shaders/whitted_shade.wg
 pub(crate) const WORKGROUP_SCAN: &str = include_str!("../shaders/workgroup_scan.wgsl");
 /// Prefix-sum stream compaction.
 pub(crate) const COMPACT: &str = include_str!("../shaders/compact.wgsl");
+/// A live image's resolve on the device (render/device_image.rs).
+pub(crate) const RESOLVE: &str = include_str!("../shaders/resolve.wgsl");
 /// The path tracer's shading (the wavefront's third mode).
 pub(crate) const PATH_SHADE: &str = include_str!("../shaders/path_shade.wgsl");
 /// The wavefront strategy's kernels.

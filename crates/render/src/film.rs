@@ -26,6 +26,20 @@ impl Film {
         Self { width, height, sum: vec![Color::ZERO; n], weight: vec![0.0; n] }
     }
 
+    /// A film holding `sum` and `weight` per pixel (row-major), as another device
+    /// accumulated them (the GPU's live image). Panics unless both have `width · height`
+    /// entries.
+    pub fn from_sums(width: u32, height: u32, sum: Vec<Color>, weight: Vec<f32>) -> Self {
+        let n = width as usize * height as usize;
+        assert!(
+            sum.len() == n && weight.len() == n,
+            "{} sums and {} weights for {width}x{height}",
+            sum.len(),
+            weight.len()
+        );
+        Self { width, height, sum, weight }
+    }
+
     /// Width in pixels.
     pub fn width(&self) -> u32 {
         self.width

@@ -261,7 +261,7 @@ impl App {
                 break p;
             }
         };
-        dynray_render::write_image(self.live.film(), &path)?;
+        dynray_render::write_image(&self.live.image_film()?, &path)?;
         Ok(path)
     }
 
@@ -371,8 +371,14 @@ impl App {
         self.advance_time(start);
         self.choose_scale();
         self.moved = false;
+        let shared = self.presenter.as_ref().is_some_and(|p| p.shared_context().is_some());
+        self.live.present_on_device(shared && self.show == Show::Image);
         let report = self.live.step()?;
-        let (rgba, w, h, view_time) = self.view_pixels(&report);
+        let (rgba, w, h, view_time) = match self.live.device_image() {
+            // The GPU backend's image, resolved on the window's device: nothing to upload.
+            Some(image) => (Vec::new(), image.width(), image.height(), Duration::ZERO),
+            None => self.view_pixels(&report),
+        };
 
         // This frame's row first, so the panel shows it (present and total follow below).
         self.rows.push(FrameRow {
@@ -390,11 +396,15 @@ impl App {
             present_ms: 0.0,
             total_ms: 0.0,
             rays: report.rays,
+            image: if self.live.device_image().is_some() { "device" } else { "host" },
         });
         let t_present = Instant::now();
         let window = self.window.clone().expect("a window before frames");
         let presenter = self.presenter.as_mut().expect("a presenter before frames");
-        presenter.upload(&rgba, w, h);
+        match self.live.device_image() {
+            Some(image) => presenter.show_device_image(image),
+            None => presenter.upload(&rgba, w, h),
+        }
         let last = self.frames + 1 == self.options.exit_after.unwrap_or(u64::MAX) || self.exiting;
         let capture = last && self.options.screenshot.is_some();
         let mut request = Request::default();
@@ -549,10 +559,17 @@ impl ApplicationHandler for App {
             Ok(w) => Arc::new(w),
             Err(e) => return self.fail(event_loop, anyhow::anyhow!("cannot open a window: {e}")),
         };
-        let presenter = match Presenter::new(window.clone(), event_loop.owned_display_handle()) {
+        let gpu = self.live.job().backend.gpu.clone().unwrap_or_default();
+        let presenter = match Presenter::new(window.clone(), event_loop.owned_display_handle(), &gpu) {
             Ok(p) => p,
             Err(e) => return self.fail(event_loop, e),
         };
+        // The GPU backend traces on the window's device, so its image stays there.
+        if let Some(ctx) = presenter.shared_context() {
+            if let Err(e) = self.live.share_gpu(ctx.clone()) {
+                return self.fail(event_loop, e);
+            }
+        }
         self.egui_state = Some(egui_winit::State::new(
             self.egui.clone(),
             egui::ViewportId::ROOT,

@@ -9,6 +9,7 @@
 //! sampling at equal sizes copies every byte unchanged.
 
 use anyhow::{anyhow, bail, Context, Result};
+use dynray_gpu::{DeviceImage, GpuContext, GpuOptions};
 use std::sync::Arc;
 use winit::window::Window;
 
@@ -35,6 +36,10 @@ struct Out { @builtin(position) pos: vec4<f32>, @location(0) uv: vec2<f32> };
 
 /// The window's GPU side.
 pub struct Presenter {
+    /// The device, as the GPU backend opens them.
+    context: Arc<GpuContext>,
+    /// The context is the one the job's GPU options name (so the backend may use it).
+    shared: bool,
     surface: wgpu::Surface<'static>,
     device: wgpu::Device,
     queue: wgpu::Queue,
@@ -61,31 +66,34 @@ pub struct PanelPaint<'a> {
 }
 
 impl Presenter {
-    /// Opens a device that can present to `window` (Vulkan: a GPU driver, or lavapipe).
-    pub fn new(window: Arc<Window>, display: winit::event_loop::OwnedDisplayHandle) -> Result<Self> {
+    /// Opens a device that can present to `window` (Vulkan: a GPU driver, or lavapipe),
+    /// as a [`GpuContext`] the GPU backend can share: the one `gpu` names where it can
+    /// present, else the best that can (then not shared, [`Self::shared_context`]).
+    pub fn new(window: Arc<Window>, display: winit::event_loop::OwnedDisplayHandle, gpu: &GpuOptions) -> Result<Self> {
         let mut desc = wgpu::InstanceDescriptor::new_with_display_handle(Box::new(display));
         desc.backends = wgpu::Backends::VULKAN;
         let instance = wgpu::Instance::new(desc);
         let size = window.inner_size();
         let surface = instance.create_surface(window).context("cannot make a drawing surface for the window")?;
-        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
-            power_preference: wgpu::PowerPreference::HighPerformance,
-            force_fallback_adapter: false,
-            compatible_surface: Some(&surface),
-            ..Default::default()
-        }))
-        .map_err(|e| {
+        let no_adapter = |e: dynray_gpu::GpuError| {
             anyhow!(
                 "no Vulkan adapter can present to this window ({e}); install a Vulkan driver \
                  (Debian: mesa-vulkan-drivers, which has the lavapipe software adapter)"
             )
-        })?;
-        let name = adapter.get_info().name;
-        let (device, queue) = pollster::block_on(
-            adapter.request_device(&wgpu::DeviceDescriptor { label: Some("dynray view"), ..Default::default() }),
-        )
-        .with_context(|| format!("{name}: cannot open the device"))?;
-        let caps = surface.get_capabilities(&adapter);
+        };
+        let (ctx, shared) = match GpuContext::for_surface(&instance, &surface, gpu) {
+            Ok(ctx) => (ctx, true),
+            Err(_) if *gpu != GpuOptions::default() => {
+                (GpuContext::for_surface(&instance, &surface, &GpuOptions::default()).map_err(no_adapter)?, false)
+            }
+            Err(e) => return Err(no_adapter(e)),
+        };
+        let ctx = Arc::new(ctx);
+        let adapter_name = ctx.adapter().name.clone();
+        let (device, queue) = (ctx.device().clone(), ctx.queue().clone());
+        let adapter = ctx.wgpu_adapter();
+        let name = adapter_name;
+        let caps = surface.get_capabilities(adapter);
         let Some(&format) = caps.formats.iter().find(|f| !f.is_srgb()).or_else(|| caps.formats.first()) else {
             bail!("{name}: the window's surface offers no format");
         };
@@ -124,6 +132,8 @@ impl Presenter {
         let canvas = canvas(&device, config.width, config.height);
         let egui = egui_wgpu::Renderer::new(&device, CANVAS_FORMAT, egui_wgpu::RendererOptions::default());
         Ok(Presenter {
+            context: ctx,
+            shared,
             surface,
             device,
             queue,
@@ -144,6 +154,51 @@ impl Presenter {
         &self.adapter
     }
 
+    /// The window's device, when it is the one the job's GPU options ask for: the GPU
+    /// backend traces on it, and its image reaches the window without a read-back.
+    pub fn shared_context(&self) -> Option<&Arc<GpuContext>> {
+        self.shared.then_some(&self.context)
+    }
+
+    /// Makes the GPU backend's image on the device the image shown: its rows are copied
+    /// into the window's texture on the device.
+    pub fn show_device_image(&mut self, image: &DeviceImage) {
+        let (width, height) = (image.width(), image.height());
+        self.image_texture(width, height);
+        let texture = self.image.as_ref().expect("made above");
+        let mut enc = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("image") });
+        enc.copy_buffer_to_texture(
+            wgpu::TexelCopyBufferInfo {
+                buffer: image.rgba(),
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(image.bytes_per_row()),
+                    rows_per_image: None,
+                },
+            },
+            texture.as_image_copy(),
+            wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+        );
+        self.queue.submit([enc.finish()]);
+    }
+
+    /// The image texture, (re)made at `width` × `height`.
+    fn image_texture(&mut self, width: u32, height: u32) {
+        let fits = self.image.as_ref().is_some_and(|t| t.width() == width && t.height() == height);
+        if !fits {
+            self.image = Some(self.device.create_texture(&wgpu::TextureDescriptor {
+                label: Some("image"),
+                size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: wgpu::TextureFormat::Rgba8Unorm,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+                view_formats: &[],
+            }));
+        }
+    }
+
     /// Follows the window's new size.
     pub fn resize(&mut self, width: u32, height: u32) {
         let (width, height) = (width.max(1), height.max(1));
@@ -158,19 +213,7 @@ impl Presenter {
     /// Makes `rgba` (`width` × `height`, 4 bytes a pixel) the image shown.
     pub fn upload(&mut self, rgba: &[u8], width: u32, height: u32) {
         let (width, height) = (width.max(1), height.max(1));
-        let fits = self.image.as_ref().is_some_and(|t| t.width() == width && t.height() == height);
-        if !fits {
-            self.image = Some(self.device.create_texture(&wgpu::TextureDescriptor {
-                label: Some("image"),
-                size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: wgpu::TextureFormat::Rgba8Unorm,
-                usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-                view_formats: &[],
-            }));
-        }
+        self.image_texture(width, height);
         let texture = self.image.as_ref().expect("made above");
         if rgba.len() != 4 * width as usize * height as usize {
             return;

@@ -37,15 +37,18 @@ pub struct FrameRow {
     pub total_ms: f64,
     /// Rays traced.
     pub rays: u64,
+    /// Where the image shown was resolved: `device` (the GPU backend's, on the window's
+    /// device, no read-back) or `host` (a film uploaded).
+    pub image: &'static str,
 }
 
-const HEADER: &str = "frame,time_s,samples,width,height,pose_ms,physics_ms,update_ms,update,render_ms,view_ms,present_ms,total_ms,rays,mrays_per_s";
+const HEADER: &str = "frame,time_s,samples,width,height,pose_ms,physics_ms,update_ms,update,render_ms,view_ms,present_ms,total_ms,rays,mrays_per_s,image";
 
 impl FrameRow {
     fn csv(&self) -> String {
         let mrays = if self.render_ms > 0.0 { self.rays as f64 / self.render_ms / 1e3 } else { 0.0 };
         format!(
-            "{},{},{},{},{},{:.3},{:.3},{:.3},{},{:.3},{:.3},{:.3},{:.3},{},{:.3}",
+            "{},{},{},{},{},{:.3},{:.3},{:.3},{},{:.3},{:.3},{:.3},{:.3},{},{:.3},{}",
             self.frame,
             self.time,
             self.samples,
@@ -60,7 +63,8 @@ impl FrameRow {
             self.present_ms,
             self.total_ms,
             self.rays,
-            mrays
+            mrays,
+            self.image
         )
     }
 }
@@ -100,6 +104,6 @@ mod tests {
         assert_eq!(lines.len(), 2);
         assert_eq!(lines[0].split(',').count(), lines[1].split(',').count());
         assert!(lines[1].starts_with("3,0.5,0,0,0,"), "{}", lines[1]);
-        assert!(lines[1].ends_with(",4000,2.000"), "{}", lines[1]);
+        assert!(lines[1].ends_with(",4000,2.000,"), "{}", lines[1]);
     }
 }

@@ -156,7 +156,12 @@ impl AnimateJob {
                 bail!("{label}: scenes with `adf` blocks render on the CPU only; drop --backend gpu")
             }
             Some(gpu) => {
-                let choice = GpuChoice { options: gpu, build: self.backend.gpu_build, strategy: self.gpu_strategy };
+                let choice = GpuChoice {
+                    options: gpu,
+                    build: self.backend.gpu_build,
+                    strategy: self.gpu_strategy,
+                    context: None,
+                };
                 Tracer::gpu(&self.accel, self.update, &options, choice).with_context(|| label.clone())?
             }
         };

@@ -20,9 +20,10 @@ use crate::load::Loaded;
 use crate::tracer::{gpu_integrator, GpuChoice, Tracer};
 use anyhow::{bail, Context, Result};
 use dynray_accel::{Accel, UpdatePolicy, UpdateReport};
-use dynray_gpu::GpuStrategy;
+use dynray_gpu::{DeviceImage, GpuContext, GpuStrategy};
 use dynray_render::{Film, IntegratorKind, IntegratorParams, RenderOptions, RenderStats};
 use dynray_scene::{Camera, Frame, Timeline};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 /// What one [`Live::step`] did and how long each part took.
@@ -65,6 +66,15 @@ pub struct Live {
     dirty: Dirty,
     /// The job's image size, as the last pose set it.
     full_size: (u32, u32),
+    /// A device opened by the front end (the viewer's window's), which GPU tracers use.
+    gpu_context: Option<Arc<GpuContext>>,
+    /// The front end shows the GPU backend's image from the device
+    /// ([`Live::present_on_device`]).
+    on_device: bool,
+    /// The live image on the device, when frames resolve there.
+    device_image: Option<Arc<DeviceImage>>,
+    /// The last frame was resolved into `device_image` (its film is not read back).
+    resolved_on_device: bool,
     /// On the GPU: the job's structure built on the CPU over the current frame, for the
     /// heat map and outlines ([`Live::view_structure`]); dropped at every update.
     view_accel: Option<Box<dyn Accel>>,
@@ -104,7 +114,7 @@ impl Live {
         let mut stage = Stage::new(loaded.scene, &label, job.frame_settings())?;
         stage.pose(time)?;
         let fields = Fields::load(&stage.frame().distance_fields, &label)?;
-        let tracer = make_tracer(&job, policy, &fields)?;
+        let tracer = make_tracer(&job, policy, &fields, None)?;
         let s = &stage.frame().settings;
         let full_size = (s.width, s.height);
         let camera = job.camera;
@@ -121,9 +131,50 @@ impl Live {
             samples: 0,
             dirty: Dirty { build: true, pose: false, camera: false, image: true },
             full_size,
+            gpu_context: None,
+            on_device: false,
+            device_image: None,
+            resolved_on_device: false,
             view_accel: None,
             rendered_size: (0, 0),
         })
+    }
+
+    /// Traces on `ctx` (a device the front end opened, the viewer's window's) whenever the
+    /// backend is the GPU, so its image can reach the window without leaving the device.
+    pub fn share_gpu(&mut self, ctx: Arc<GpuContext>) -> Result<()> {
+        self.gpu_context = Some(ctx);
+        self.device_image = None;
+        if self.job.backend.is_gpu() {
+            self.step.tracer = make_tracer(&self.job, self.policy, &self.fields, self.gpu_context.clone())?;
+            self.dirty.build = true;
+            self.dirty.image = true;
+        }
+        Ok(())
+    }
+
+    /// With `on` and the GPU backend on a shared device ([`Live::share_gpu`]), frames
+    /// resolve into an image on the device ([`Live::device_image`]) instead of being read
+    /// back into the film; the film stays empty then. Switching restarts the image.
+    pub fn present_on_device(&mut self, on: bool) {
+        if on != self.on_device {
+            self.on_device = on;
+            self.dirty.image = true;
+        }
+    }
+
+    /// The image on the device, when the last frame was resolved there.
+    pub fn device_image(&self) -> Option<&DeviceImage> {
+        self.device_image.as_deref().filter(|_| self.resolved_on_device)
+    }
+
+    /// The accumulated image as a film wherever it lives (read back from the device when
+    /// frames resolve there): what saving it needs.
+    pub fn image_film(&self) -> Result<Film> {
+        match self.device_image() {
+            Some(image) => Ok(image.read_film()?),
+            None => Ok(self.film.clone()),
+        }
     }
 
     /// The job the image follows.
@@ -158,7 +209,7 @@ impl Live {
             // The GPU tracer compiles its integrator's kernels when it is made.
             || (job.backend.is_gpu() && job.integrator != self.job.integrator);
         if new_tracer {
-            self.step.tracer = make_tracer(&job, policy, &self.fields)?;
+            self.step.tracer = make_tracer(&job, policy, &self.fields, self.gpu_context.clone())?;
             self.dirty.build = true;
         }
         if job.frame_settings() != self.job.frame_settings() {
@@ -397,11 +448,15 @@ impl Live {
                 ..Default::default()
             }
         };
+        let direct = self.direct_target(size)?;
         let t0 = Instant::now();
         let (film, stats) = self.render(&options, has_triangles)?;
         report.render = t0.elapsed();
         report.rays = stats.total_rays();
-        if self.samples == 0 {
+        self.resolved_on_device = direct;
+        if direct {
+            self.film = Film::new(0, 0);
+        } else if self.samples == 0 {
             self.film = film;
         } else {
             self.film.add_film(&film);
@@ -410,6 +465,25 @@ impl Live {
         self.rendered_size = size;
         report.samples = self.samples;
         Ok(report)
+    }
+
+    /// Points the GPU tracer at the device image of `size` (made or cleared as needed)
+    /// when frames are to resolve on the device; returns whether they do.
+    fn direct_target(&mut self, size: (u32, u32)) -> Result<bool> {
+        let Tracer::Gpu(gpu) = &mut self.step.tracer else { return Ok(false) };
+        let shared = self.gpu_context.as_ref().filter(|c| Arc::ptr_eq(c, gpu.context_arc()));
+        let Some(ctx) = shared.filter(|_| self.on_device).cloned() else {
+            gpu.set_target(None);
+            return Ok(false);
+        };
+        let fits = self.device_image.as_ref().is_some_and(|i| (i.width(), i.height()) == size);
+        if !fits {
+            self.device_image = Some(Arc::new(DeviceImage::new(ctx, size.0, size.1)?));
+        } else if self.samples == 0 {
+            self.device_image.as_ref().expect("fits").clear();
+        }
+        gpu.set_target(self.device_image.clone());
+        Ok(true)
     }
 
     fn render(&mut self, options: &RenderOptions, has_triangles: bool) -> Result<(Film, RenderStats)> {
@@ -446,7 +520,12 @@ fn check(job: &RenderJob) -> Result<()> {
 
 /// The tracer `job` asks for; the scene's `fields` are traced beside the triangles by
 /// [`Live`] itself on the CPU, and refused on the GPU.
-fn make_tracer(job: &RenderJob, policy: UpdatePolicy, fields: &Fields) -> Result<Tracer> {
+fn make_tracer(
+    job: &RenderJob,
+    policy: UpdatePolicy,
+    fields: &Fields,
+    context: Option<Arc<GpuContext>>,
+) -> Result<Tracer> {
     match &job.backend {
         BackendChoice { gpu: Some(options), gpu_build } => {
             if !fields.is_empty() {
@@ -454,7 +533,7 @@ fn make_tracer(job: &RenderJob, policy: UpdatePolicy, fields: &Fields) -> Result
             }
             let probe = RenderOptions { integrator: job.integrator, ..Default::default() };
             gpu_integrator(&probe, job.gpu_strategy)?;
-            let choice = GpuChoice { options, build: *gpu_build, strategy: job.gpu_strategy };
+            let choice = GpuChoice { options, build: *gpu_build, strategy: job.gpu_strategy, context };
             Tracer::gpu(&job.accel, policy, &probe, choice)
         }
         BackendChoice { gpu: None, .. } => Ok(Tracer::cpu(&job.accel, policy, job.scene_accel, Fields::default())),

@@ -318,7 +318,7 @@ impl RenderJob {
         options: &RenderOptions,
     ) -> Result<Rendered> {
         let how = self.backend.gpu_build;
-        let choice = GpuChoice { options: gpu, build: how, strategy: self.gpu_strategy };
+        let choice = GpuChoice { options: gpu, build: how, strategy: self.gpu_strategy, context: None };
         let mut tracer = Tracer::gpu(&self.accel, ONE_FRAME, options, choice)
             .with_context(|| format!("{label}: cannot build {}", self.accel))?;
         let build = tracer

@@ -13,7 +13,9 @@ use dynray_accel::{
     Accel, AccelSpec, Bvh, BvhParams, LiveAccel, PolicyState, PolicyTarget, UpdateAction, UpdatePolicy, UpdateReport,
 };
 use dynray_geom::{TriangleMesh, Vec3};
-use dynray_gpu::{GpuBuild, GpuBvh, GpuContext, GpuIntegrator, GpuOptions, GpuRenderOptions, GpuRenderer, GpuStrategy};
+use dynray_gpu::{
+    DeviceImage, GpuBuild, GpuBvh, GpuContext, GpuIntegrator, GpuOptions, GpuRenderOptions, GpuRenderer, GpuStrategy,
+};
 use dynray_render::{Film, IntegratorKind, RenderOptions, RenderStats};
 use dynray_scene::Frame;
 use std::any::Any;
@@ -28,6 +30,9 @@ pub struct GpuChoice<'a> {
     pub build: GpuBuild,
     /// Seed 003's strategy.
     pub strategy: GpuStrategy,
+    /// A device already open (the viewer's window's), used instead of opening the one
+    /// `options` names.
+    pub context: Option<Arc<GpuContext>>,
 }
 
 /// A BVH kept current on the device, and the renderer that traces it.
@@ -103,7 +108,10 @@ impl GpuTracer {
         // The GPU traverses the binary tree: plain `bvh` stands for `bvh2` there.
         let spec = &spec.binary_bvh().with_context(|| format!("cannot build {spec}"))?;
         let params = spec.read().with_context(|| format!("cannot build {spec}"))?;
-        let ctx = Arc::new(GpuContext::new(gpu.options)?);
+        let ctx = match gpu.context {
+            Some(ctx) => ctx,
+            None => Arc::new(GpuContext::new(gpu.options)?),
+        };
         let renderer = GpuRenderer::new(ctx.clone())?;
         Ok(GpuTracer {
             ctx,
@@ -118,6 +126,17 @@ impl GpuTracer {
             state: None,
             last_render: 0.0,
         })
+    }
+
+    /// Renders of the target's size resolve into `target` on the device instead of being
+    /// read back ([`GpuRenderer::set_target`]); `None` reads back.
+    pub fn set_target(&mut self, target: Option<Arc<DeviceImage>>) {
+        self.renderer.set_target(target);
+    }
+
+    /// The device's context, shared.
+    pub fn context_arc(&self) -> &Arc<GpuContext> {
+        &self.ctx
     }
 
     /// The device's context (its adapter's name, for summaries).

@@ -5,11 +5,14 @@
 //! physically based path tracer (shaders/path_shade.wgsl) ([`GpuIntegrator`]).
 
 mod compact;
+mod device_image;
 mod frame_upload;
 mod hybrid;
 mod megakernel;
 mod wavefront;
 mod work;
+
+pub use device_image::DeviceImage;
 
 use crate::{buffer, GpuBvh, GpuContext, GpuError};
 use dynray_accel::Bvh;
@@ -146,7 +149,8 @@ pub struct StageTimings {
 /// One GPU render.
 #[derive(Clone, Debug)]
 pub struct GpuRender {
-    /// The image, as the CPU renderer returns it.
+    /// The image, as the CPU renderer returns it; empty (0 × 0) when the renderer
+    /// resolved it into its target on the device ([`GpuRenderer::set_target`]).
     pub film: Film,
     /// Rays traced.
     pub stats: RenderStats,
@@ -171,6 +175,9 @@ pub struct GpuRenderer {
     upload: frame_upload::FrameUpload,
     kernels: HashMap<(u32, u32), Arc<Kernels>>,
     placeholders: Placeholders,
+    /// Where renders resolve on the device instead of being read back
+    /// ([`Self::set_target`]).
+    target: Option<Arc<DeviceImage>>,
 }
 
 impl std::fmt::Debug for GpuRenderer {
@@ -183,7 +190,21 @@ impl GpuRenderer {
     /// A renderer on `ctx`.
     pub fn new(ctx: Arc<GpuContext>) -> Result<Self, GpuError> {
         let placeholders = Placeholders::new(&ctx)?;
-        Ok(Self { upload: frame_upload::FrameUpload::new(ctx.clone()), ctx, kernels: HashMap::new(), placeholders })
+        Ok(Self {
+            upload: frame_upload::FrameUpload::new(ctx.clone()),
+            ctx,
+            kernels: HashMap::new(),
+            placeholders,
+            target: None,
+        })
+    }
+
+    /// Renders of the target's size add their samples into `target` on the device (sums
+    /// in sample order, then sRGB RGBA rows a window copies), and return an empty film
+    /// instead of reading the samples back; `None` reads back again. The target must be on
+    /// this renderer's device.
+    pub fn set_target(&mut self, target: Option<Arc<DeviceImage>>) {
+        self.target = target;
     }
 
     fn kernels(&mut self, stack: u32, ray_stack: u32) -> Result<Arc<Kernels>, GpuError> {
@@ -279,7 +300,10 @@ impl GpuRenderer {
             counters: &counters,
         };
         let mut rec = Recorder::new(&ctx);
-        let mut colors: Vec<[f32; 4]> = vec![[0.0; 4]; total as usize];
+        let (w, h) = (frame.settings.width, frame.settings.height);
+        // Resolved on the device when the target has this frame's size.
+        let target = self.target.clone().filter(|t| (t.width(), t.height()) == (w, h));
+        let mut colors: Vec<[f32; 4]> = vec![[0.0; 4]; if target.is_some() { 0 } else { total as usize }];
         let (mut secondary, mut shadow) = (0u64, 0u64);
         let mut uploaded_bytes = uploaded_bytes;
         let mode = match options.integrator {
@@ -288,7 +312,6 @@ impl GpuRenderer {
             GpuIntegrator::Cumulative { branch_depth } => wavefront::Mode::Tree { branch_depth },
             GpuIntegrator::Path => wavefront::Mode::Path,
         };
-        let (w, h) = (frame.settings.width, frame.settings.height);
         let mut film = Film::new(w, h);
         for pass in 0..passes {
             if pass > 0 {
@@ -304,17 +327,24 @@ impl GpuRenderer {
                     GpuStrategy::Megakernel => megakernel::render(&batch, &mut rec, base, n, &film)?,
                     GpuStrategy::Hybrid => hybrid::render(&batch, &mut rec, base, n, &film)?,
                 };
-                rec.read(&film, &mut colors[base as usize..(base + n) as usize])?;
+                match &target {
+                    Some(t) => t.accumulate(rec.encoder(), &film, spp, base, n),
+                    None => rec.read(&film, &mut colors[base as usize..(base + n) as usize])?,
+                }
                 base += n;
             }
-            for (p, samples) in colors.chunks(spp as usize).enumerate() {
-                // Summed in sample order, and passes one after the other, as the CPU
-                // render loop does.
-                let mut sum = Color::ZERO;
-                for s in samples {
-                    sum += Color::new(s[0], s[1], s[2]);
+            if target.is_some() {
+                // Read the counters below; the samples stay on the device.
+            } else {
+                for (p, samples) in colors.chunks(spp as usize).enumerate() {
+                    // Summed in sample order, and passes one after the other, as the CPU
+                    // render loop does.
+                    let mut sum = Color::ZERO;
+                    for s in samples {
+                        sum += Color::new(s[0], s[1], s[2]);
+                    }
+                    film.add_sum(p as u32 % w.max(1), p as u32 / w.max(1), sum, spp as f32);
                 }
-                film.add_sum(p as u32 % w.max(1), p as u32 / w.max(1), sum, spp as f32);
             }
             // The device counts in u32: read and reset per pass so passes cannot wrap it.
             let mut c = [0u32; 4];
@@ -322,6 +352,11 @@ impl GpuRenderer {
             ctx.queue.write_buffer(&counters, 0, &[0u8; 16]);
             shadow += c[0] as u64;
             secondary += c[1] as u64;
+        }
+        if let Some(t) = &target {
+            t.encode(rec.encoder());
+            rec.submit()?;
+            film = Film::new(0, 0);
         }
         let s = rec.seconds;
         let stats = RenderStats {
