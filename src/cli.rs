@@ -59,8 +59,8 @@ pub struct ViewArgs {
     /// Start playing the animation (real time, looping).
     #[arg(long)]
     pub play: bool,
-    /// The starting view: image, heatmap (nodes + triangles per primary ray) or
-    /// boxes[:DEPTH] (the structure's boxes or cells over the image; depth 3 by default).
+    /// The starting view: `image`, `heatmap` (nodes + triangles per primary ray) or
+    /// `boxes[:DEPTH]` (the structure's boxes or cells over the image; depth 3 by default).
     #[arg(long, value_name = "VIEW", value_parser = |s: &str| s.parse::<dynray_view::Show>())]
     #[cfg(feature = "view")]
     pub show: Option<dynray_view::Show>,
