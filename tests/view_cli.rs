@@ -278,3 +278,26 @@ fn the_gpu_backends_image_goes_to_the_window_on_the_device_and_matches_render() 
     let first = text.lines().nth(1).unwrap();
     assert!(first.ends_with(",device"), "resolved on the window's device, not read back: {first}");
 }
+
+#[test]
+fn switching_the_structure_live_changes_no_pixel() {
+    let dir = tempfile::tempdir().unwrap();
+    let script = dir.path().join("switch.txt");
+    // Three structures in turn (bvh -> bvh2 -> bih -> kdtree), each given 2 frames.
+    std::fs::write(&script, "wait 2\nkey n\nwait 2\nkey n\nwait 2\nkey n\nwait 2\n").unwrap();
+    let (still, switched, csv) =
+        (dir.path().join("still.png"), dir.path().join("switched.png"), dir.path().join("t.csv"));
+    let base = ["--width", "80", "--height", "60", "--spp", "2", "--no-overlay"];
+    let mut a: Vec<&str> = base.to_vec();
+    a.extend(["--exit-after", "2", "--screenshot", still.to_str().unwrap()]);
+    let Some(out) = view(&a) else { return };
+    ok(out);
+    let mut b: Vec<&str> = base.to_vec();
+    b.extend(["--exit-after", "9", "--script", script.to_str().unwrap()]);
+    b.extend(["--screenshot", switched.to_str().unwrap(), "--timings", csv.to_str().unwrap()]);
+    ok(view(&b).unwrap());
+    assert_eq!(differing(&rgb(&still), &rgb(&switched)), 0, "every structure is exact: the image is the same");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let builds = text.lines().skip(1).filter(|l| l.split(',').nth(8) == Some("rebuild")).count();
+    assert_eq!(builds, 4, "the first build and one per switch: {text}");
+}

@@ -130,6 +130,10 @@ struct App {
     overlay: bool,
     playing: bool,
     auto_scale: bool,
+    /// The resolution scale while automatic scaling is off.
+    fixed_scale: f32,
+    /// The panel's structure text (`bih:max_prims=5`), edited until Enter.
+    accel_text: String,
     pointer: Pointer,
     modifiers: ModifiersState,
     /// The camera moved since the last frame.
@@ -153,6 +157,8 @@ impl App {
             overlay: !options.no_overlay,
             playing: options.play,
             auto_scale: true,
+            fixed_scale: 1.0,
+            accel_text: live.job().accel.to_string(),
             options,
             live,
             script,
@@ -228,6 +234,26 @@ impl App {
                     Ok(()) => format!("wrote {} frames to {}", self.rows.len(), path.display()),
                     Err(e) => format!("{e:#}"),
                 };
+            }
+            Command::NextStructure => {
+                let job = self.live.job();
+                let all = dynray_accel::AccelKind::ALL;
+                let at = all.iter().position(|k| *k == job.accel.kind).unwrap_or(0);
+                // The GPU traces the binary BVH only; brute force is for checking, not viewing.
+                let next = (1..=all.len())
+                    .map(|i| all[(at + i) % all.len()])
+                    .find(|k| *k != dynray_accel::AccelKind::Brute)
+                    .expect("kinds besides brute");
+                if job.backend.is_gpu() {
+                    self.status = "the GPU backend traces bvh2 only".to_string();
+                } else {
+                    let job = RenderJob { accel: dynray_accel::AccelSpec::new(next), ..job.clone() };
+                    self.status = match self.live.reconfigure(job, self.live.policy()) {
+                        Ok(()) => format!("structure: {}", next.name()),
+                        Err(e) => format!("{e:#}"),
+                    };
+                    self.view_cache = None;
+                }
             }
             Command::ToggleOverlay => self.overlay = !self.overlay,
             Command::Quit => {
@@ -312,7 +338,9 @@ impl App {
     fn choose_scale(&mut self) {
         let moving = self.moved || self.playing;
         let last = self.rows.last().map(|r| Duration::from_secs_f64(r.render_ms / 1e3));
-        let scale = if !self.auto_scale || !moving {
+        let scale = if !self.auto_scale {
+            self.fixed_scale
+        } else if !moving {
             1.0
         } else {
             match last {
@@ -414,10 +442,12 @@ impl App {
             let fps = fps(&mut self.frame_times, start);
             let adapter = presenter.adapter().to_string();
             let structure_bytes = self.live.accel().map_or(0, |a| a.memory_bytes());
+            let accel_text = &mut self.accel_text;
             let out = self.egui.run_ui(input, |ui| {
                 let ctx = ui.ctx().clone();
                 request = panel::draw(
                     &ctx,
+                    accel_text,
                     &PanelState {
                         live: &self.live,
                         rows: &self.rows,
@@ -425,6 +455,7 @@ impl App {
                         show: self.show,
                         playing: self.playing,
                         auto_scale: self.auto_scale,
+                        fixed_scale: self.fixed_scale,
                         status: &self.status,
                         adapter: &adapter,
                         structure_bytes,
@@ -465,6 +496,9 @@ impl App {
 
     /// Applies what the panel asked.
     fn apply(&mut self, r: Request, event_loop: &ActiveEventLoop) {
+        if let Some(e) = r.error {
+            self.status = e;
+        }
         if let Some((job, policy)) = r.job {
             if let Err(e) = self.live.reconfigure(job, policy) {
                 self.status = format!("{e:#}");
@@ -490,6 +524,13 @@ impl App {
         }
         if let Some(a) = r.auto_scale {
             self.auto_scale = a;
+        }
+        if let Some(scale) = r.scale {
+            self.fixed_scale = scale;
+        }
+        // The text follows the structure unless it is being edited.
+        if !self.egui.egui_wants_keyboard_input() {
+            self.accel_text = self.live.job().accel.to_string();
         }
     }
 

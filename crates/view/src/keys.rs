@@ -30,6 +30,8 @@ pub enum Command {
     SaveExr,
     /// Write the frame timings so far.
     WriteTimings,
+    /// Switch to the next structure (every kind in turn, default parameters).
+    NextStructure,
     /// Show or hide the panel and statistics.
     ToggleOverlay,
     /// Close the window.
@@ -56,14 +58,15 @@ const TABLE: &[(&str, Command)] = &[
     ("p", Command::SavePng),
     ("x", Command::SaveExr),
     ("t", Command::WriteTimings),
+    ("n", Command::NextStructure),
     ("tab", Command::ToggleOverlay),
     ("escape", Command::Quit),
 ];
 
 /// The key names scripts may use.
 pub const NAMES: &[&str] = &[
-    "space", "right", "left", "r", "w", "s", "a", "d", "e", "q", "1", "2", "3", "plus", "minus", "p", "x", "t", "tab",
-    "escape",
+    "space", "right", "left", "r", "w", "s", "a", "d", "e", "q", "1", "2", "3", "plus", "minus", "p", "x", "t", "n",
+    "tab", "escape",
 ];
 
 impl Command {
@@ -116,6 +119,7 @@ pub fn help() -> Vec<(&'static str, &'static str)> {
                 Command::SavePng => "save PNG",
                 Command::SaveExr => "save EXR",
                 Command::WriteTimings => "write timings",
+                Command::NextStructure => "next structure",
                 Command::ToggleOverlay => "panel on / off",
                 Command::Quit => "quit",
             };

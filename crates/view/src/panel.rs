@@ -25,6 +25,10 @@ pub struct Request {
     pub threads: Option<Option<usize>>,
     /// Automatic resolution scaling on or off.
     pub auto_scale: Option<bool>,
+    /// The resolution scale while automatic scaling is off.
+    pub scale: Option<f32>,
+    /// A mistake to show (a structure text that does not parse).
+    pub error: Option<String>,
 }
 
 /// What the panel shows that the app keeps.
@@ -41,6 +45,8 @@ pub struct PanelState<'a> {
     pub playing: bool,
     /// Automatic resolution scaling.
     pub auto_scale: bool,
+    /// The scale while it is off.
+    pub fixed_scale: f32,
     /// The latest message (saved files, errors of a switch).
     pub status: &'a str,
     /// The adapter presenting.
@@ -49,14 +55,15 @@ pub struct PanelState<'a> {
     pub structure_bytes: usize,
 }
 
-/// Draws the overlay and returns what was asked.
-pub fn draw(ctx: &egui::Context, s: &PanelState<'_>) -> Request {
+/// Draws the overlay and returns what was asked. `accel_text` is the structure field's
+/// text, kept by the caller between frames while it is edited.
+pub fn draw(ctx: &egui::Context, accel_text: &mut String, s: &PanelState<'_>) -> Request {
     let mut req = Request::default();
     stats(ctx, s);
     egui::Window::new("dynray").anchor(egui::Align2::RIGHT_TOP, [-8.0, 8.0]).default_open(false).resizable(false).show(
         ctx,
         |ui| {
-            structure(ui, s, &mut req);
+            structure(ui, s, accel_text, &mut req);
             ui.separator();
             image(ui, s, &mut req);
             ui.separator();
@@ -125,16 +132,26 @@ fn stats(ctx: &egui::Context, s: &PanelState<'_>) {
     });
 }
 
-fn structure(ui: &mut egui::Ui, s: &PanelState<'_>, req: &mut Request) {
+fn structure(ui: &mut egui::Ui, s: &PanelState<'_>, accel_text: &mut String, req: &mut Request) {
     let job = s.live.job();
     let mut next = job.clone();
     let mut policy = s.live.policy();
     egui::Grid::new("structure").show(ui, |ui| {
         ui.label("structure");
-        egui::ComboBox::from_id_salt("accel").selected_text(next.accel.to_string()).show_ui(ui, |ui| {
-            for k in AccelKind::ALL {
-                if ui.selectable_label(next.accel.kind == *k, k.name()).clicked() {
-                    next.accel = dynray_accel::AccelSpec::new(*k);
+        ui.horizontal(|ui| {
+            egui::ComboBox::from_id_salt("accel").selected_text(next.accel.kind.name()).show_ui(ui, |ui| {
+                for k in AccelKind::ALL {
+                    if ui.selectable_label(next.accel.kind == *k, k.name()).clicked() {
+                        next.accel = dynray_accel::AccelSpec::new(*k);
+                    }
+                }
+            });
+            // Any `--accel` text, parameters included, applied on Enter.
+            let edit = ui.add(egui::TextEdit::singleline(accel_text).desired_width(160.0).hint_text("bih:max_prims=5"));
+            if edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter)) {
+                match accel_text.parse::<dynray_accel::AccelSpec>() {
+                    Ok(spec) => next.accel = spec,
+                    Err(e) => req.error = Some(e.to_string()),
                 }
             }
         });
@@ -211,9 +228,17 @@ fn image(ui: &mut egui::Ui, s: &PanelState<'_>, req: &mut Request) {
         ui.end_row();
         ui.label("resolution");
         let mut auto = s.auto_scale;
-        if ui.checkbox(&mut auto, "scale down while moving").changed() {
-            req.auto_scale = Some(auto);
-        }
+        ui.horizontal(|ui| {
+            if ui.checkbox(&mut auto, "scale down while moving").changed() {
+                req.auto_scale = Some(auto);
+            }
+            if !s.auto_scale {
+                let mut scale = s.fixed_scale;
+                if ui.add(egui::Slider::new(&mut scale, 0.125..=1.0).text("scale")).changed() {
+                    req.scale = Some(scale);
+                }
+            }
+        });
         ui.end_row();
         ui.label("view");
         ui.horizontal(|ui| {
