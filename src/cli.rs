@@ -82,6 +82,14 @@ pub struct ViewArgs {
     /// when the window closes.
     #[arg(long, value_name = "FILE.csv")]
     pub timings: Option<PathBuf>,
+    /// Record every frame the window shows (overlays included unless --no-overlay), with
+    /// its real duration, into this animated GIF when it closes (600 frames at most).
+    #[arg(long, value_name = "FILE.gif")]
+    pub record: Option<PathBuf>,
+    /// Render at this fixed fraction (0 to 1] of the image size, instead of scaling down
+    /// automatically while the view moves.
+    #[arg(long, value_name = "S")]
+    pub scale: Option<f32>,
 }
 
 /// `dynray adf`.

@@ -301,3 +301,46 @@ fn switching_the_structure_live_changes_no_pixel() {
     let builds = text.lines().skip(1).filter(|l| l.split(',').nth(8) == Some("rebuild")).count();
     assert_eq!(builds, 4, "the first build and one per switch: {text}");
 }
+
+#[test]
+fn record_keeps_every_frame_shown_and_scale_fixes_the_size() {
+    let dir = tempfile::tempdir().unwrap();
+    let (gif, csv) = (dir.path().join("rec.gif"), dir.path().join("t.csv"));
+    let args = [
+        "examples/animated.scn",
+        "--width",
+        "80",
+        "--height",
+        "60",
+        "--spp",
+        "1",
+        "--scale",
+        "0.5",
+        "--play",
+        "--exit-after",
+        "5",
+        "--no-overlay",
+        "--record",
+        gif.to_str().unwrap(),
+        "--timings",
+        csv.to_str().unwrap(),
+    ];
+    let Some(out) = view(&args) else { return };
+    ok(out);
+    let decoder =
+        image::codecs::gif::GifDecoder::new(std::io::BufReader::new(std::fs::File::open(&gif).unwrap())).unwrap();
+    let frames = image::AnimationDecoder::into_frames(decoder).collect_frames().unwrap();
+    assert_eq!(frames.len(), 5, "one GIF frame per frame shown");
+    assert_eq!(frames[0].buffer().dimensions(), (80, 60), "the window's size");
+    assert_ne!(frames[0].buffer().as_raw(), frames[4].buffer().as_raw(), "the animation plays in the recording");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    for row in text.lines().skip(1) {
+        let f: Vec<&str> = row.split(',').collect();
+        assert_eq!((f[3], f[4]), ("40", "30"), "--scale 0.5 renders half the size while playing: {row}");
+    }
+    for (args, want) in [(vec!["view", "--record", "x.mp4"], "animated GIF"), (vec!["view", "--scale", "2"], "--scale")]
+    {
+        let o = dynray(&args);
+        assert!(!o.status.success() && String::from_utf8_lossy(&o.stderr).contains(want), "{args:?}");
+    }
+}

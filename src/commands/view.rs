@@ -21,6 +21,8 @@ pub fn run(a: ViewArgs) -> Result<()> {
         screenshot: a.screenshot,
         no_overlay: a.no_overlay,
         timings: a.timings,
+        record: a.record,
+        scale: a.scale,
     })
 }
 

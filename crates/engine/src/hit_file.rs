@@ -222,8 +222,9 @@ fn write_npz(path: &Path, fill: impl FnOnce(&mut Npz) -> std::io::Result<()>) ->
         _ => Path::new("."),
     };
     // Ordinary permissions, not tempfile's private 0600: the hits are for other tools.
-    let tmp =
-        readable_temp_builder().tempfile_in(dir).with_context(|| format!("{}: cannot write here", path.display()))?;
+    let tmp = crate::output::readable_temp_builder()
+        .tempfile_in(dir)
+        .with_context(|| format!("{}: cannot write here", path.display()))?;
     let file = tmp.reopen().with_context(|| format!("{}: cannot write", path.display()))?;
     let mut npz = npyz::npz::NpzWriter::new(BufWriter::new(file));
     fill(&mut npz).with_context(|| format!("{}: write failed", path.display()))?;
@@ -242,18 +243,6 @@ pub fn write_hits(path: &Path, fields: &[HitField], hits: &[Hit], mesh: &Triangl
 /// Writes the any-hit answers as one bool array `occluded` (atomically).
 pub fn write_occluded(path: &Path, occluded: &[bool]) -> Result<()> {
     write_npz(path, |npz| write_array(npz, "occluded", occluded))
-}
-
-/// A temporary-file builder whose files end up with ordinary permissions (0644 less the
-/// umask) instead of tempfile's private 0600: the hits are for other tools.
-fn readable_temp_builder() -> tempfile::Builder<'static, 'static> {
-    let mut b = tempfile::Builder::new();
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::PermissionsExt;
-        b.permissions(std::fs::Permissions::from_mode(0o644));
-    }
-    b
 }
 
 #[cfg(test)]

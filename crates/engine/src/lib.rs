@@ -28,6 +28,7 @@ pub mod heat;
 pub mod hit_file;
 pub mod jobs;
 pub mod load;
+pub mod output;
 pub mod timeline;
 pub mod tracer;
 

@@ -47,6 +47,10 @@ pub struct ViewOptions {
     pub no_overlay: bool,
     /// Write one row per frame here when it closes (CSV).
     pub timings: Option<PathBuf>,
+    /// Record every frame the window shows into this GIF, written when it closes.
+    pub record: Option<PathBuf>,
+    /// A fixed resolution scale in (0, 1] instead of the automatic one.
+    pub scale: Option<f32>,
 }
 
 /// A frame that takes longer than this while the view moves halves the resolution.
@@ -93,8 +97,18 @@ fn check_outputs(options: &ViewOptions) -> Result<()> {
             bail!("{}: --timings writes CSV (use a .csv name)", p.display());
         }
     }
+    if let Some(s) = options.scale {
+        if !(s > 0.0 && s <= 1.0) {
+            bail!("--scale must be in (0, 1], got {s}");
+        }
+    }
+    if let Some(p) = &options.record {
+        if !p.extension().is_some_and(|e| e.eq_ignore_ascii_case("gif")) {
+            bail!("{}: --record writes an animated GIF (use a .gif name)", p.display());
+        }
+    }
     if let Some(scene) = &options.scene {
-        for out in [&options.screenshot, &options.timings].into_iter().flatten() {
+        for out in [&options.screenshot, &options.timings, &options.record].into_iter().flatten() {
             if same_file(scene, out) {
                 bail!("{}: is the scene being viewed; it is never overwritten", out.display());
             }
@@ -146,18 +160,20 @@ struct App {
     /// The view's pixels of the last restart (heat map, outline), recomputed on change.
     view_cache: Option<(u32, Vec<u8>)>,
     saved: u32,
+    recording: Option<crate::record::Recording>,
     error: Option<anyhow::Error>,
     exiting: bool,
 }
 
 impl App {
     fn new(options: ViewOptions, live: Live, script: Option<Script>) -> Self {
+        let recording = options.record.as_ref().map(|_| crate::record::Recording::default());
         App {
             show: options.show.unwrap_or(Show::Image),
             overlay: !options.no_overlay,
             playing: options.play,
-            auto_scale: true,
-            fixed_scale: 1.0,
+            auto_scale: options.scale.is_none(),
+            fixed_scale: options.scale.unwrap_or(1.0),
             accel_text: live.job().accel.to_string(),
             options,
             live,
@@ -176,6 +192,7 @@ impl App {
             status: String::new(),
             view_cache: None,
             saved: 0,
+            recording,
             error: None,
             exiting: false,
         }
@@ -434,7 +451,7 @@ impl App {
             None => presenter.upload(&rgba, w, h),
         }
         let last = self.frames + 1 == self.options.exit_after.unwrap_or(u64::MAX) || self.exiting;
-        let capture = last && self.options.screenshot.is_some();
+        let capture = (last && self.options.screenshot.is_some()) || self.recording.is_some();
         let mut request = Request::default();
         let shot = if self.overlay {
             let state = self.egui_state.as_mut().expect("made with the window");
@@ -484,7 +501,10 @@ impl App {
 
         self.frames += 1;
         self.last_frame = Some(start);
-        if let (Some(shot), Some(path)) = (shot, &self.options.screenshot) {
+        if let (Some(rec), Some(shot)) = (self.recording.as_mut(), &shot) {
+            rec.push(shot.clone(), self.rows.last().map_or(0.0, |r| r.total_ms));
+        }
+        if let (Some(shot), Some(path)) = (shot.filter(|_| last), &self.options.screenshot) {
             write_png(path, &shot)?;
         }
         if last {
@@ -676,6 +696,19 @@ impl ApplicationHandler for App {
                 self.error.get_or_insert(e);
             }
         }
+        if let (Some(rec), Some(path)) = (&self.recording, &self.options.record) {
+            if rec.dropped() > 0 {
+                eprintln!(
+                    "dynray: warning: {}: recorded the first {} frames, {} more were not kept",
+                    path.display(),
+                    rec.len(),
+                    rec.dropped()
+                );
+            }
+            if let Err(e) = rec.write(path) {
+                self.error.get_or_insert(e);
+            }
+        }
     }
 }
 
@@ -707,17 +740,9 @@ fn to_rgba(rgb: &[u8]) -> Vec<u8> {
 
 /// Writes `image` as PNG under a temporary name in the same folder, then renames it.
 fn write_png(path: &Path, image: &image::RgbaImage) -> Result<()> {
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
-    let tmp = tempfile::Builder::new()
-        .suffix(".png")
-        .tempfile_in(dir)
-        .with_context(|| format!("{}: cannot write", path.display()))?;
+    let mut bytes = Vec::new();
     image
-        .save_with_format(tmp.path(), image::ImageFormat::Png)
-        .with_context(|| format!("{}: cannot write", path.display()))?;
-    tmp.persist(path).map_err(|e| e.error).with_context(|| format!("{}: cannot write", path.display()))?;
-    Ok(())
+        .write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png)
+        .with_context(|| format!("{}: cannot encode", path.display()))?;
+    dynray_engine::output::write_atomic(path, &bytes)
 }

@@ -8,7 +8,8 @@
 //! - [`present`]: the image, the panel and screenshots on the GPU;
 //! - [`navigate`]: orbit, pan, zoom and fly;
 //! - [`views`]: the heat map and the structure's boxes;
-//! - [`script`], [`keys`], [`timings`]: scripted input, key table, per-frame CSV.
+//! - [`script`], [`keys`], [`timings`], [`record`]: scripted input, key table, per-frame
+//!   CSV, the window recorded as a GIF.
 
 #![deny(missing_docs)]
 
@@ -17,6 +18,7 @@ pub mod keys;
 pub mod navigate;
 pub mod panel;
 pub mod present;
+pub mod record;
 pub mod script;
 pub mod timings;
 pub mod views;

@@ -2,8 +2,7 @@
 //! physics, structure update, trace/shade, present), its size and rays, written
 //! atomically (a temporary file renamed).
 
-use anyhow::{Context, Result};
-use std::io::Write;
+use anyhow::Result;
 use std::path::Path;
 
 /// One frame's figures.
@@ -71,11 +70,6 @@ impl FrameRow {
 
 /// Writes `rows` as CSV to `path` (temporary name, then renamed).
 pub fn write(path: &Path, rows: &[FrameRow]) -> Result<()> {
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
-    let mut tmp = tempfile::NamedTempFile::new_in(dir).with_context(|| format!("{}: cannot write", path.display()))?;
     let mut text = String::with_capacity(64 * (rows.len() + 1));
     text.push_str(HEADER);
     text.push('\n');
@@ -83,8 +77,7 @@ pub fn write(path: &Path, rows: &[FrameRow]) -> Result<()> {
         text.push_str(&r.csv());
         text.push('\n');
     }
-    tmp.write_all(text.as_bytes()).with_context(|| format!("{}: cannot write", path.display()))?;
-    tmp.persist(path).map_err(|e| e.error).with_context(|| format!("{}: cannot write", path.display()))?;
+    dynray_engine::output::write_atomic(path, text.as_bytes())?;
     Ok(())
 }
 

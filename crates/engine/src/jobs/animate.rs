@@ -268,7 +268,9 @@ fn open_timings(path: &Path, resume: bool) -> Result<BufWriter<File>> {
 /// bits.
 pub fn write_obj(frame: &Frame, path: &Path) -> Result<()> {
     let dir = path.parent().unwrap_or(Path::new("."));
-    let mut tmp = tempfile::NamedTempFile::new_in(dir).with_context(|| format!("{}: cannot create", dir.display()))?;
+    let mut tmp = crate::output::readable_temp_builder()
+        .tempfile_in(dir)
+        .with_context(|| format!("{}: cannot create", dir.display()))?;
     {
         let mut w = BufWriter::new(tmp.as_file_mut());
         writeln!(w, "# dynray animate: frame at t = {} s, {} triangles", frame.time, frame.mesh.triangle_count())?;

@@ -17,7 +17,9 @@ pub fn write_gif(frames: &[PathBuf], fps: f32, path: &Path) -> Result<()> {
     let step = frames.len().div_ceil(MAX_FRAMES).max(1);
     let delay_ms = (1000.0 * step as f32 / fps.max(1e-3)).round().clamp(20.0, 10_000.0) as u32;
     let dir = path.parent().unwrap_or(Path::new("."));
-    let mut tmp = tempfile::NamedTempFile::new_in(dir).with_context(|| format!("{}: cannot create", dir.display()))?;
+    let mut tmp = crate::output::readable_temp_builder()
+        .tempfile_in(dir)
+        .with_context(|| format!("{}: cannot create", dir.display()))?;
     {
         let mut encoder = GifEncoder::new_with_speed(tmp.as_file_mut(), 10);
         encoder.set_repeat(Repeat::Infinite).with_context(|| format!("{}: cannot write", path.display()))?;
