@@ -11,21 +11,40 @@ use dynray_geom::TriangleMesh;
 use std::io::Read;
 use std::path::Path;
 
+/// Most bytes a `.ply.gz` may decompress to: past any real mesh (a 28-million-triangle
+/// scan is about 0.5 GiB of binary PLY), and a bound on what a compression bomb (deflate
+/// inflates zeros about 1000-fold) can make the reader allocate (docs/limits.md).
+pub const MAX_DECOMPRESSED_BYTES: u64 = 2 << 30;
+
 /// Reads a `.ply` or `.ply.gz` file into a validated mesh.
 pub fn load(path: &Path) -> Result<TriangleMesh, LoadError> {
     let raw = dynray_geom::file::read(path).map_err(|e| LoadError::io(path, e))?;
     let bytes = if raw.starts_with(&[0x1f, 0x8b]) {
-        let mut out = Vec::new();
-        flate2::read::MultiGzDecoder::new(&raw[..])
-            .read_to_end(&mut out)
-            .map_err(|e| LoadError::parse(path, None, format!("corrupt gzip data: {e}")))?;
-        out
+        gunzip(&raw, MAX_DECOMPRESSED_BYTES).map_err(|e| LoadError::parse(path, None, e))?
     } else {
         raw
     };
     let mesh = parse(path, &bytes)?;
     mesh.validate().map_err(|source| LoadError::Mesh { path: path.to_path_buf(), source })?;
     Ok(mesh)
+}
+
+/// The gzip members of `raw`, decompressed, or an error once they pass `limit` bytes
+/// (nothing past `limit + 1` bytes is ever allocated).
+fn gunzip(raw: &[u8], limit: u64) -> Result<Vec<u8>, String> {
+    let mut out = Vec::new();
+    flate2::read::MultiGzDecoder::new(raw)
+        .take(limit.saturating_add(1))
+        .read_to_end(&mut out)
+        .map_err(|e| format!("corrupt gzip data: {e}"))?;
+    if out.len() as u64 > limit {
+        return Err(format!(
+            "the gzip data decompresses to more than {} MiB (from {} bytes), past the reader's budget",
+            limit >> 20,
+            raw.len()
+        ));
+    }
+    Ok(out)
 }
 
 /// Parses PLY bytes (already decompressed). `path` only labels errors.
@@ -448,4 +467,29 @@ fn read_scalar<const LE: bool>(body: &[u8], at: &mut usize, ty: Scalar) -> Optio
         Scalar::F32 => num!(f32),
         Scalar::F64 => num!(f64),
     })
+}
+
+#[cfg(test)]
+mod gzip_tests {
+    use super::*;
+    use std::io::Write;
+
+    fn gz(data: &[u8]) -> Vec<u8> {
+        let mut e = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::best());
+        e.write_all(data).unwrap();
+        e.finish().unwrap()
+    }
+
+    #[test]
+    fn a_compression_bomb_stops_at_the_budget() {
+        // 64 MiB of zeros squeeze into about 64 KiB: a small bomb against a 1 MiB budget.
+        let bomb = gz(&vec![0u8; 64 << 20]);
+        assert!(bomb.len() < 1 << 20);
+        let e = gunzip(&bomb, 1 << 20).unwrap_err();
+        assert!(e.contains("more than 1 MiB"), "{e}");
+        let fine = gz(b"ply\nformat ascii 1.0\nend_header\n");
+        assert_eq!(gunzip(&fine, 1 << 20).unwrap(), b"ply\nformat ascii 1.0\nend_header\n");
+        // Exactly at the budget is allowed.
+        assert_eq!(gunzip(&gz(&[7u8; 1000]), 1000).unwrap().len(), 1000);
+    }
 }
