@@ -297,3 +297,14 @@ fn obj_shapes_take_the_xml_bsdf() {
         BsdfKind::Diffuse { reflectance: Color::new(0.1, 0.2, 0.3) }
     );
 }
+
+/// Regression (issue 43): 200,000 nested elements overflowed the stack (the conversion
+/// recurses per level, exit 134); now an error naming the line, at once.
+#[test]
+fn deeply_nested_elements_are_an_error_not_a_stack_overflow() {
+    let n = 200_000;
+    let body = format!("{}{}", "<shape type=\"obj\">".repeat(n), "</shape>".repeat(n));
+    let e = error_of(&body);
+    assert!(e.contains("nested more than 64 deep"), "{e}");
+    // Real scenes (the Cornell boxes and the sphere above) load: their depth is a handful.
+}

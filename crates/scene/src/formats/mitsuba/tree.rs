@@ -112,10 +112,37 @@ fn read_file(
             format!("the root element is <{}>; a Mitsuba scene starts with <scene>", root_elem.tag_name().name()),
         ));
     }
+    check_depth(&doc, root_elem, path)?;
     stack.push(canonical);
     let scene = convert(&doc, root_elem, &file, root, defaults, stack);
     stack.pop();
     scene
+}
+
+/// Deepest element nesting a scene file may have: real Mitsuba scenes nest a handful of
+/// levels (scene > shape > bsdf > texture > …); the conversion below recurses per level,
+/// so a hostile file of 200,000 nested elements would otherwise overflow the stack.
+const MAX_ELEMENT_DEPTH: usize = 64;
+
+/// Refuses a document nested deeper than [`MAX_ELEMENT_DEPTH`], by an iterative walk,
+/// naming the line of the first element too deep.
+fn check_depth(doc: &roxmltree::Document<'_>, root: roxmltree::Node<'_, '_>, path: &Path) -> Result<(), LoadError> {
+    // Element depth per node, in document order (a parent comes before its children).
+    let mut depth = vec![0u32; doc.descendants().count()];
+    for n in root.descendants().filter(|n| n.is_element()) {
+        let parent = n.parent_element().filter(|p| p.id() != n.id());
+        let d = parent.map_or(1, |p| depth[p.id().get_usize()] + 1);
+        depth[n.id().get_usize()] = d;
+        if d as usize > MAX_ELEMENT_DEPTH {
+            let line = doc.text_pos_at(n.range().start).row as usize;
+            return Err(LoadError::parse(
+                path,
+                Some(line),
+                format!("elements nested more than {MAX_ELEMENT_DEPTH} deep"),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Copies `node` (and its children) out of the DOM, expanding includes and defaults.
