@@ -155,3 +155,37 @@ fn dispatch_2d(
     pass.set_bind_group(0, group, &[]);
     pass.dispatch_workgroups(x, groups.div_ceil(x), 1);
 }
+
+#[cfg(test)]
+mod tests {
+    use super::Resolve;
+
+    /// The Rust mirror and shaders/resolve.wgsl's `Resolve` agree on size and offsets
+    /// (naga lays the WGSL struct out; DESIGN.md asks this of every device struct).
+    #[test]
+    fn resolve_matches_its_wgsl_declaration() {
+        let src = crate::shader::RESOLVE;
+        let module = naga::front::wgsl::parse_str(src).unwrap_or_else(|e| panic!("{}", e.emit_to_string(src)));
+        naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all())
+            .validate(&module)
+            .unwrap_or_else(|e| panic!("resolve.wgsl: {e:?}"));
+        let (members, span) = module
+            .types
+            .iter()
+            .find_map(|(_, t)| match (&t.name, &t.inner) {
+                (Some(n), naga::TypeInner::Struct { members, span }) if n == "Resolve" => {
+                    Some((members.clone(), *span))
+                }
+                _ => None,
+            })
+            .expect("a Resolve struct");
+        assert_eq!(span as usize, std::mem::size_of::<Resolve>());
+        let offsets: Vec<u32> = members.iter().map(|m| m.offset).collect();
+        let names: Vec<&str> = members.iter().map(|m| m.name.as_deref().unwrap_or("")).collect();
+        assert_eq!(names, ["width", "pixels", "spp", "base", "n", "row_words", "first_pixel", "pad"]);
+        assert_eq!(offsets, [0, 4, 8, 12, 16, 20, 24, 28]);
+        let r = Resolve { width: 1, pixels: 2, spp: 3, base: 4, n: 5, row_words: 6, first_pixel: 7, pad: 8 };
+        let words: &[u32] = bytemuck::cast_slice(bytemuck::bytes_of(&r));
+        assert_eq!(words, [1, 2, 3, 4, 5, 6, 7, 8], "fields in declaration order");
+    }
+}
