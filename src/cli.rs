@@ -14,8 +14,8 @@ use std::path::PathBuf;
 #[derive(Parser, Debug)]
 #[command(name = "dynray", version, about, propagate_version = true)]
 pub struct Cli {
-    /// Worker threads (default: all cores).
-    #[arg(long, global = true, value_name = "N")]
+    /// Worker threads, at least 1 (default: all cores).
+    #[arg(long, global = true, value_name = "N", value_parser = threads_parser())]
     pub threads: Option<usize>,
     #[command(subcommand)]
     pub command: Command,
@@ -552,4 +552,10 @@ fn accels_parser(s: &str) -> Result<String, String> {
 
 fn parse_accel(s: &str) -> Result<AccelSpec, String> {
     s.parse().map_err(|e: dynray_accel::BuildError| e.to_string())
+}
+
+/// `--threads`: a count of at least 1, so 0 is a usage error (exit 2) like every other
+/// malformed flag.
+fn threads_parser() -> impl clap::builder::TypedValueParser<Value = usize> {
+    clap::value_parser!(u64).range(1..=4096).map(|n| n as usize)
 }

@@ -555,3 +555,13 @@ fn devices_and_pipes_are_refused_not_read() {
         fails_with(o, "not a regular file");
     }
 }
+
+/// Issue 48: `--threads 0` is a usage error (exit 2, clap's message), not a run-time one.
+#[test]
+fn zero_threads_is_a_usage_error() {
+    let o = dynray(&["--threads", "0", "info", &bunny()]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--threads"), "{}", stderr(&o));
+    let o = dynray(&["--threads", "1", "info", &bunny()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+}
