@@ -157,8 +157,8 @@ struct App {
     rows: Vec<FrameRow>,
     frames: u64,
     status: String,
-    /// The view's pixels of the last restart (heat map, outline), recomputed on change.
-    view_cache: Option<(u32, Vec<u8>)>,
+    /// The heat map of the last restart, recomputed on change.
+    view_cache: Option<Vec<u8>>,
     saved: u32,
     recording: Option<crate::record::Recording>,
     error: Option<anyhow::Error>,
@@ -371,40 +371,31 @@ impl App {
 
     /// The RGBA pixels of the current view, and the time the view's extra work took.
     fn view_pixels(&mut self, report: &LiveFrame) -> (Vec<u8>, u32, u32, Duration) {
-        let film = self.live.film();
-        let (w, h) = (film.width(), film.height());
+        let (w, h) = (self.live.film().width(), self.live.film().height());
         let t0 = Instant::now();
         if report.restarted {
             self.view_cache = None;
         }
-        let image = to_rgba(&film.to_srgb8());
         if self.show != Show::Image {
             if let Err(e) = self.live.build_view_structure() {
                 self.status = format!("{e:#}");
             }
         }
-        let rgba = match self.show {
-            Show::Image => image,
-            Show::Heatmap => match &self.view_cache {
-                Some((_, pixels)) => pixels.clone(),
-                None => match self.live.view_structure() {
-                    Some(accel) => {
-                        let pixels = views::heatmap(self.live.frame(), accel).0;
-                        self.view_cache = Some((0, pixels.clone()));
-                        pixels
-                    }
-                    None => image,
-                },
-            },
-            Show::Boxes(depth) => {
-                let mut rgba = image;
-                if let Some(accel) = self.live.view_structure() {
-                    let mut boxes = Vec::new();
-                    accel.outline(depth, &mut boxes);
-                    views::draw_boxes(&mut rgba, (w, h), self.live.frame(), &boxes);
-                }
+        let image = |live: &Live| to_rgba(&live.film().to_srgb8());
+        let rgba = match (self.show, self.live.view_structure()) {
+            (Show::Heatmap, Some(accel)) => {
+                // Primary rays only: the same until the view restarts.
+                let frame = self.live.frame();
+                self.view_cache.get_or_insert_with(|| views::heatmap(frame, accel).0).clone()
+            }
+            (Show::Boxes(depth), Some(accel)) => {
+                let mut rgba = image(&self.live);
+                let mut boxes = Vec::new();
+                accel.outline(depth, &mut boxes);
+                views::draw_boxes(&mut rgba, (w, h), self.live.frame(), &boxes);
                 rgba
             }
+            _ => image(&self.live),
         };
         (rgba, w, h, t0.elapsed())
     }

@@ -187,8 +187,9 @@ fn structure(ui: &mut egui::Ui, s: &PanelState<'_>, accel_text: &mut String, req
         if gpu {
             ui.label("strategy");
             egui::ComboBox::from_id_salt("strategy").selected_text(next.gpu_strategy.to_string()).show_ui(ui, |ui| {
-                for st in dynray_engine::jobs::live::GPU_STRATEGIES {
-                    ui.selectable_value(&mut next.gpu_strategy, st, st.to_string());
+                for name in GpuStrategy::NAMES {
+                    let st: GpuStrategy = name.parse().expect("listed names parse");
+                    ui.selectable_value(&mut next.gpu_strategy, st, name);
                 }
             });
             ui.end_row();

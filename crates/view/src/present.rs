@@ -245,24 +245,7 @@ impl Presenter {
             extra = self.egui.update_buffers(&self.device, &self.queue, &mut encoder, p.primitives, screen);
         }
         {
-            let mut pass = encoder
-                .begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("canvas"),
-                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                        view: &canvas_view,
-                        resolve_target: None,
-                        ops: wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                            store: wgpu::StoreOp::Store,
-                        },
-                        depth_slice: None,
-                    })],
-                    depth_stencil_attachment: None,
-                    occlusion_query_set: None,
-                    timestamp_writes: None,
-                    multiview_mask: None,
-                })
-                .forget_lifetime();
+            let mut pass = cleared_pass(&mut encoder, "canvas", &canvas_view).forget_lifetime();
             if let Some(image) = &self.image {
                 let group = self.bind(image);
                 // The image keeps its aspect ratio, centred.
@@ -310,22 +293,7 @@ impl Presenter {
                 ..Default::default()
             });
             let group = self.bind(&self.canvas);
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("present"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &view,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                        store: wgpu::StoreOp::Store,
-                    },
-                    depth_slice: None,
-                })],
-                depth_stencil_attachment: None,
-                occlusion_query_set: None,
-                timestamp_writes: None,
-                multiview_mask: None,
-            });
+            let mut pass = cleared_pass(&mut encoder, "present", &view);
             pass.set_pipeline(&self.to_surface);
             pass.set_bind_group(0, &group, &[]);
             pass.draw(0..3, 0..1);
@@ -379,6 +347,27 @@ fn fit(image: (u32, u32), window: (u32, u32)) -> (f32, f32, f32, f32) {
     // Within half a pixel of the window's aspect: fill it (resolution scaling rounds).
     let (w, h) = if ((iw * s) - ww).abs() < 1.0 && ((ih * s) - wh).abs() < 1.0 { (ww, wh) } else { (iw * s, ih * s) };
     (((ww - w) * 0.5).floor(), ((wh - h) * 0.5).floor(), w, h)
+}
+
+/// A render pass that clears `view` to black first.
+fn cleared_pass<'e>(
+    encoder: &'e mut wgpu::CommandEncoder,
+    label: &str,
+    view: &wgpu::TextureView,
+) -> wgpu::RenderPass<'e> {
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(label),
+        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            view,
+            resolve_target: None,
+            ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::BLACK), store: wgpu::StoreOp::Store },
+            depth_slice: None,
+        })],
+        depth_stencil_attachment: None,
+        occlusion_query_set: None,
+        timestamp_writes: None,
+        multiview_mask: None,
+    })
 }
 
 fn canvas(device: &wgpu::Device, width: u32, height: u32) -> wgpu::Texture {

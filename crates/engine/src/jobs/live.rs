@@ -20,7 +20,7 @@ use crate::load::Loaded;
 use crate::tracer::{gpu_integrator, GpuChoice, Tracer};
 use anyhow::{bail, Context, Result};
 use dynray_accel::{Accel, UpdatePolicy, UpdateReport};
-use dynray_gpu::{DeviceImage, GpuContext, GpuStrategy};
+use dynray_gpu::{DeviceImage, GpuContext};
 use dynray_render::{Film, IntegratorKind, IntegratorParams, RenderOptions, RenderStats};
 use dynray_scene::{Camera, Frame, Timeline};
 use std::sync::Arc;
@@ -553,6 +553,3 @@ fn mix_seed(seed: u64, samples: u32) -> u64 {
     z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
     z ^ (z >> 31)
 }
-
-/// The strategies the GPU backend offers, for front ends that list them.
-pub const GPU_STRATEGIES: [GpuStrategy; 3] = [GpuStrategy::Wavefront, GpuStrategy::Megakernel, GpuStrategy::Hybrid];
