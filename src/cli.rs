@@ -5,6 +5,7 @@ use clap::{Args, Parser, Subcommand};
 use dynray_accel::{AccelSpec, SceneLayout, UpdatePolicy};
 use dynray_bench::{BenchConfig, Framing, Preset, RayKind};
 use dynray_engine::hit_file::HitField;
+use dynray_engine::jobs::shard::Shard;
 use dynray_engine::{BackendChoice, RenderJob, TimeChoice};
 use dynray_gpu::{Backend, GpuBuild, GpuOptions, GpuStrategy};
 use dynray_render::{Aov, IntegratorKind};
@@ -373,13 +374,27 @@ pub struct AnimateArgs {
     /// Seed of the sample positions (the same for every frame).
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
-    /// Render only the frames whose number is K modulo N (`K/N`, 0 <= K < N): one job
-    /// of an array job; the shards' frames together are a full run's, byte for byte.
-    #[arg(long, value_name = "K/N", value_parser = parse_shard)]
-    pub shard: Option<(u32, u32)>,
+    /// Render one task's part of the frames, 0 <= K < N: `K/N` the frames whose number is
+    /// K modulo N, `K/N:blocks` the K-th of N contiguous ranges (with physics, each starts
+    /// from the nearest checkpoint). The tasks' frames together are a full run's, byte for
+    /// byte (docs/animate.md, "Shards and resumption").
+    #[arg(long, value_name = "K/N[:blocks]", value_parser = |s: &str| s.parse::<Shard>())]
+    pub shard: Option<Shard>,
     /// Skip frames whose PNG is already in the output folder (frames are written whole).
     #[arg(long)]
     pub resume: bool,
+    /// With physics, save the simulation's state every K frames to OUT/checkpoints/
+    /// (0: never); runs continue from the latest checkpoint instead of time 0.
+    #[arg(long, value_name = "K", default_value_t = 1)]
+    pub checkpoint_every: u32,
+    /// Simulate the physics and write checkpoints without rendering: the first job of a
+    /// chain whose `--shard K/N:blocks` tasks then render in parallel.
+    #[arg(long, conflicts_with = "merge")]
+    pub checkpoints_only: bool,
+    /// After an array job: check that every frame is there, join the tasks' timings
+    /// into timings.csv and write preview.gif; renders nothing.
+    #[arg(long, conflicts_with = "shard")]
+    pub merge: bool,
     /// Also write each frame's world-space triangles as mesh_NNNN.obj.
     #[arg(long)]
     pub export_meshes: bool,
@@ -412,17 +427,6 @@ fn parse_frame_range(s: &str) -> Result<(u32, u32), String> {
         return Err(format!("`{s}`: the first frame is after the last"));
     }
     Ok((a, b))
-}
-
-/// `K/N` with `0 <= K < N`.
-fn parse_shard(s: &str) -> Result<(u32, u32), String> {
-    let bad = || format!("`{s}`: expected K/N with 0 <= K < N, as in 0/4");
-    let (k, n) = s.split_once('/').ok_or_else(bad)?;
-    let (k, n) = (k.trim().parse::<u32>().map_err(|_| bad())?, n.trim().parse::<u32>().map_err(|_| bad())?);
-    if n == 0 || k >= n {
-        return Err(bad());
-    }
-    Ok((k, n))
 }
 
 /// `dynray info`.

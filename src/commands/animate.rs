@@ -22,6 +22,7 @@ pub fn run(a: AnimateArgs) -> Result<()> {
         seed: a.seed,
         shard: a.shard,
         resume: a.resume,
+        checkpoint_every: a.checkpoint_every,
         export_meshes: a.export_meshes,
         flat_shading: a.flat_shading,
         backend: a.backend.choice(),
@@ -32,9 +33,26 @@ pub fn run(a: AnimateArgs) -> Result<()> {
     let label = loaded.label.clone();
     let bar = ProgressBar::hidden();
     bar.set_style(ProgressStyle::with_template("{bar:40} frame {pos}/{len} {elapsed} (eta {eta}) {msg}").unwrap());
-    let summary = job.run(loaded, &mut |event| match event {
+    if a.merge {
+        eprintln!("{}", job.merge(loaded)?);
+        return Ok(());
+    }
+    let mut restored = false;
+    let mut on_event = |event: AnimateEvent<'_>| match event {
         AnimateEvent::Resuming { done, of } => eprintln!("{label}: resuming: {done} of {of} frames already there"),
         AnimateEvent::Physics(what) => eprintln!("{label}: physics: {what}"),
+        // The first restore says where the run starts; later ones (a checkpoint another
+        // task wrote ahead of this one) would be a line a frame.
+        AnimateEvent::FromCheckpoint { frame } => {
+            if !restored {
+                restored = true;
+                bar.suspend(|| eprintln!("{label}: physics continues from the checkpoint of frame {frame}"));
+            }
+        }
+        AnimateEvent::Simulated { took, .. } => {
+            bar.set_message(format!("simulated {:.0} ms", took.as_secs_f64() * 1e3));
+            bar.inc(1);
+        }
         AnimateEvent::Started { count } => {
             bar.set_length(count as u64);
             bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
@@ -43,7 +61,8 @@ pub fn run(a: AnimateArgs) -> Result<()> {
             bar.set_message(format!("{update} {:.0} ms", to_image.as_secs_f64() * 1e3));
             bar.inc(1);
         }
-    });
+    };
+    let summary = if a.checkpoints_only { job.simulate(loaded, &mut on_event) } else { job.run(loaded, &mut on_event) };
     bar.finish_and_clear();
     eprintln!("{}", summary?);
     Ok(())

@@ -4,7 +4,8 @@
 //!
 //! Physics runs in fixed steps from time 0 ([`dynray_sim::World::advance_to`]), so a frame
 //! reached by any path — the next frame of a run, a shard's first, a resumed run's, a
-//! seek backwards (which re-simulates from 0) — has exactly the state a full run shows.
+//! seek backwards (which re-simulates from 0), a run continued from a checkpoint
+//! ([`Stage::restore_physics`]) — has exactly the state a full run shows.
 
 use crate::tracer::Tracer;
 use anyhow::{Context, Result};
@@ -97,6 +98,14 @@ impl Stage {
     /// The simulation, where the scene has one.
     pub fn world(&self) -> Option<&World> {
         self.world.as_ref()
+    }
+
+    /// Continues the simulation from a checkpoint ([`World::checkpoint`]); an error
+    /// (another scene's, damaged) changes nothing. A scene without physics has nothing
+    /// to restore: its checkpoints are refused.
+    pub fn restore_physics(&mut self, bytes: &[u8]) -> Result<()> {
+        let w = self.world.as_mut().ok_or_else(|| anyhow::anyhow!("{}: the scene has no physics", self.label))?;
+        Ok(w.restore(bytes)?)
     }
 
     /// The frame's settings every pose applies.

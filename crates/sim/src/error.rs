@@ -60,4 +60,7 @@ pub enum SimError {
         /// Step count when found.
         step: u64,
     },
+    /// A physics checkpoint that cannot be used (docs/animate.md, "Physics checkpoints").
+    #[error("physics checkpoint: {0}")]
+    Checkpoint(String),
 }

@@ -7,7 +7,8 @@
 //! spatial hash), `kernel.rs` and `mls.rs` (the kernel and the MLS gradient),
 //! `material.rs`, `elastic.rs` (strain, stress, forces), `plastic.rs`, `contact.rs`
 //! (floor and static geometry), `integrator.rs` (the stable step), `surface.rs` (mesh
-//! vertices following the phyxels), `body.rs` and `world.rs`.
+//! vertices following the phyxels), `body.rs`, `world.rs` and `checkpoint.rs` (a
+//! world's state saved and restored).
 //!
 //! ```
 //! use dynray_scene::parse_scn_str;
@@ -32,6 +33,7 @@
 #![deny(missing_docs)]
 
 pub mod body;
+mod checkpoint;
 pub mod contact;
 pub mod elastic;
 mod error;

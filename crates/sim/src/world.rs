@@ -98,6 +98,22 @@ impl World {
         self.steps_per_frame
     }
 
+    /// Gravity, m/s².
+    pub fn gravity(&self) -> DVec3 {
+        self.gravity
+    }
+
+    /// Sets the step count and each body's positions, velocities and plastic strains
+    /// (checked by the caller, `checkpoint.rs`, to be this world's).
+    pub(crate) fn set_state(&mut self, steps: u64, states: Vec<(Vec<DVec3>, Vec<DVec3>, Vec<glam::DMat3>)>) {
+        for (b, (pos, vel, plastic)) in self.bodies.iter_mut().zip(states) {
+            b.pos = pos;
+            b.vel = vel;
+            b.plastic = plastic;
+        }
+        self.steps = steps;
+    }
+
     /// Steps taken since time 0.
     pub fn steps(&self) -> u64 {
         self.steps

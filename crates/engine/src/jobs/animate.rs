@@ -1,8 +1,11 @@
 //! The animate job: the frames of an animated scene to numbered PNGs through the frame
 //! step ([`FrameStep`]: pose, physics, structure update) and the tracer, with per-frame
-//! timings, a preview, shards for array jobs and resumption (docs/animate.md).
+//! timings, a preview, shards for array jobs, resumption, physics checkpoints and the
+//! merge of an array job's timings (docs/animate.md).
 
-use super::preview;
+use super::animate_merge::frame_done;
+use super::shard::Shard;
+use super::{checkpoints, preview};
 use crate::backend::BackendChoice;
 use crate::fields::Fields;
 use crate::format::thousands;
@@ -14,7 +17,7 @@ use anyhow::{bail, Context, Result};
 use dynray_accel::{AccelSpec, SceneLayout, UpdatePolicy};
 use dynray_gpu::GpuStrategy;
 use dynray_render::{write_image, IntegratorKind, RenderOptions};
-use dynray_scene::Frame;
+use dynray_scene::{Frame, Timeline};
 use std::fs::{File, OpenOptions};
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -59,10 +62,14 @@ pub struct AnimateJob {
     pub integrator: IntegratorKind,
     /// Sampler seed.
     pub seed: u64,
-    /// `(K, N)`: render the frames `k` with `k % N == K`.
-    pub shard: Option<(u32, u32)>,
+    /// One task's part of the frames (`--shard K/N[:blocks]`); `None`: all of them.
+    pub shard: Option<Shard>,
     /// Skip frames whose PNG is there.
     pub resume: bool,
+    /// With physics, write the simulation's state every this many frames (frames
+    /// `k % every == 0`) to `OUT/checkpoints/`; 0: never. Runs continue from the latest
+    /// checkpoint at or before each frame they render instead of from time 0.
+    pub checkpoint_every: u32,
     /// Also write each frame's world-space triangles as OBJ.
     pub export_meshes: bool,
     /// Flat shading for every actor.
@@ -85,6 +92,18 @@ pub enum AnimateEvent<'a> {
     },
     /// The scene has physics: its description.
     Physics(&'a str),
+    /// The simulation continues from the checkpoint of this frame.
+    FromCheckpoint {
+        /// The checkpoint's frame.
+        frame: u32,
+    },
+    /// `--checkpoints-only`: the simulation reached frame `k`.
+    Simulated {
+        /// Its number.
+        k: u32,
+        /// Time since the previous frame.
+        took: Duration,
+    },
     /// `count` frames are about to be rendered.
     Started {
         /// Frames to render.
@@ -105,9 +124,9 @@ impl AnimateJob {
     /// Checks what needs no scene.
     pub fn check(&self) -> Result<()> {
         self.backend.check()?;
-        if let Some((shard, shards)) = self.shard {
-            if shards == 0 || shard >= shards {
-                bail!("--shard {shard}/{shards}: K must be below N");
+        if let Some(s) = self.shard {
+            if s.count == 0 || s.index >= s.count {
+                bail!("--shard {s}: K must be below N");
             }
         }
         if let Some((a, b)) = self.frames {
@@ -121,31 +140,7 @@ impl AnimateJob {
     /// Renders the frames of `loaded`; `events` hears of the progress. Returns the
     /// summary line.
     pub fn run(&self, mut loaded: Loaded, events: &mut dyn FnMut(AnimateEvent<'_>)) -> Result<String> {
-        self.check()?;
-        let label = loaded.label.clone();
-        loaded.shade(self.flat_shading)?;
-        shape_timeline(&mut loaded.scene, &label, self.clip.as_deref(), self.fps)?;
-        let timeline = loaded.scene.animation.timeline;
-        let last_frame = timeline.frames - 1; // shape_timeline refuses a timeline without frames
-        let (first, last) = self.frames.unwrap_or((0, last_frame));
-        if last > last_frame {
-            bail!(
-                "{label}: --frames {first}..{last} goes past the last frame, {last_frame} ({} frames at {} fps)",
-                timeline.frames,
-                timeline.frame_rate
-            );
-        }
-        let (shard, shards) = self.shard.unwrap_or((0, 1));
-        // The frames of this shard, counted before anything lists them: a timeline of 2^32
-        // frames (an AFF `a 0 1 4000000000`, `--fps 5e9`) must not become an 8 GiB list.
-        let mine_count = shard_frames(first, last, shard, shards);
-        if mine_count > MAX_FRAMES_PER_RUN {
-            bail!(
-                "{label}: {mine_count} frames to render in one run ({first}..={last}{}), more than {MAX_FRAMES_PER_RUN}: \
-                 choose a range with --frames A..B or split the run with --shard K/N",
-                if shards > 1 { format!(", shard {shard}/{shards}") } else { String::new() }
-            );
-        }
+        let Plan { label, timeline, first, last, shard } = self.plan(&mut loaded)?;
         // Refused options and a missing GPU fail before anything is written.
         let options =
             RenderOptions { spp: self.spp, seed: self.seed, integrator: self.integrator, ..Default::default() };
@@ -167,16 +162,14 @@ impl AnimateJob {
         };
         let out = &self.out;
         std::fs::create_dir_all(out).with_context(|| format!("{}: cannot create the output folder", out.display()))?;
-        let mine: Vec<u32> = (first..=last).filter(|k| k % shards == shard).collect();
+        let mine = shard.frames(first, last);
         // A frame counts as done when its PNG is there and not empty (frames are renamed
         // into place whole, but a disk that filled up or a copy may leave 0 bytes).
-        let done = |k: u32| std::fs::metadata(frame_path(out, k)).is_ok_and(|m| m.is_file() && m.len() > 0);
-        let todo: Vec<u32> = mine.iter().copied().filter(|&k| !(self.resume && done(k))).collect();
+        let todo: Vec<u32> = mine.iter().copied().filter(|&k| !(self.resume && frame_done(out, k))).collect();
         if todo.len() < mine.len() {
             events(AnimateEvent::Resuming { done: mine.len() - todo.len(), of: mine.len() });
         }
-        let timings_name =
-            if shards == 1 { "timings.csv".to_string() } else { format!("timings_shard_{shard}_of_{shards}.csv") };
+        let timings_name = shard.timings_name();
         let timings_path = out.join(&timings_name);
         let mut timings = open_timings(&timings_path, self.resume)?;
 
@@ -186,15 +179,25 @@ impl AnimateJob {
         if let Some(w) = stage.world() {
             events(AnimateEvent::Physics(&w.describe()));
         }
+        let physics = stage.world().is_some();
         let mut step = FrameStep::new(stage, tracer);
         events(AnimateEvent::Started { count: todo.len() });
         let started = Instant::now();
         let mut rays_total = 0u64;
+        // The frame the simulation stands at (`None`: time 0).
+        let mut at = None;
         for &k in &todo {
             let t = timeline.time_of(k);
             let t0 = Instant::now();
+            if physics {
+                catch_up(&mut step.stage, out, k, &mut at, events)?;
+            }
             let at_frame = || format!("{label}: frame {k}");
             let report = step.advance_to(t).with_context(at_frame)?;
+            at = Some(k);
+            if physics && self.checkpoint_every > 0 && k.is_multiple_of(self.checkpoint_every) {
+                checkpoints::save(&step.stage, out, k)?;
+            }
             let t1 = Instant::now();
             let frame = step.stage.frame();
             let (film, stats) = step.tracer.render(frame, &options).with_context(at_frame)?;
@@ -242,11 +245,108 @@ impl AnimateJob {
     }
 }
 
-/// How many frames `k` of `first..=last` have `k % shards == shard`, without listing them.
-fn shard_frames(first: u32, last: u32, shard: u32, shards: u32) -> u64 {
-    // Frames of 0..=x that are the shard's.
-    let upto = |x: u64| if x < shard as u64 { 0 } else { (x - shard as u64) / shards as u64 + 1 };
-    upto(last as u64) - if first == 0 { 0 } else { upto(first as u64 - 1) }
+/// What every mode of the job settles first: the scene shaded and its timeline shaped,
+/// the frame range, and this task's shard.
+pub(super) struct Plan {
+    pub(super) label: String,
+    pub(super) timeline: Timeline,
+    pub(super) first: u32,
+    pub(super) last: u32,
+    pub(super) shard: Shard,
+}
+
+impl AnimateJob {
+    pub(super) fn plan(&self, loaded: &mut Loaded) -> Result<Plan> {
+        self.check()?;
+        let label = loaded.label.clone();
+        loaded.shade(self.flat_shading)?;
+        shape_timeline(&mut loaded.scene, &label, self.clip.as_deref(), self.fps)?;
+        let timeline = loaded.scene.animation.timeline;
+        let last_frame = timeline.frames - 1; // shape_timeline refuses a timeline without frames
+        let (first, last) = self.frames.unwrap_or((0, last_frame));
+        if last > last_frame {
+            bail!(
+                "{label}: --frames {first}..{last} goes past the last frame, {last_frame} ({} frames at {} fps)",
+                timeline.frames,
+                timeline.frame_rate
+            );
+        }
+        let shard = self.shard.unwrap_or(Shard::WHOLE);
+        // The frames of this shard, counted before anything lists them: a timeline of 2^32
+        // frames (an AFF `a 0 1 4000000000`, `--fps 5e9`) must not become an 8 GiB list.
+        let mine_count = shard.frame_count(first, last);
+        if mine_count > MAX_FRAMES_PER_RUN {
+            bail!(
+                "{label}: {mine_count} frames in one run ({first}..={last}{}), more than {MAX_FRAMES_PER_RUN}: \
+                 choose a range with --frames A..B or split the run with --shard K/N",
+                if shard.count > 1 { format!(", shard {shard}") } else { String::new() }
+            );
+        }
+        Ok(Plan { label, timeline, first, last, shard })
+    }
+
+    /// `--checkpoints-only`: simulates the physics of this task's frames without
+    /// rendering, writing a checkpoint every `checkpoint_every` frames — the first job of
+    /// a chain whose render tasks then start from the checkpoints (docs/animate.md,
+    /// "Physics checkpoints"). Returns the summary line.
+    pub fn simulate(&self, mut loaded: Loaded, events: &mut dyn FnMut(AnimateEvent<'_>)) -> Result<String> {
+        let Plan { label, timeline, first, last, shard } = self.plan(&mut loaded)?;
+        if self.checkpoint_every == 0 {
+            bail!("--checkpoints-only with --checkpoint-every 0 would write nothing");
+        }
+        let settings = FrameSettings { width: self.width, height: self.height, ..Default::default() };
+        let mut stage = Stage::new(loaded.scene, &label, settings)?;
+        let Some(w) = stage.world() else {
+            bail!("{label}: no actor has an `elastic` block, so there is no physics to checkpoint")
+        };
+        events(AnimateEvent::Physics(&w.describe()));
+        let out = &self.out;
+        std::fs::create_dir_all(out).with_context(|| format!("{}: cannot create the output folder", out.display()))?;
+        // Through the last frame of this task's part (its block, or the whole range).
+        let frames = shard.frames(first, last);
+        let (Some(&from), Some(&to)) = (frames.first(), frames.last()) else {
+            return Ok(format!("{label}: shard {shard} holds no frames of {first}..={last}"));
+        };
+        events(AnimateEvent::Started { count: (to - from + 1) as usize });
+        let started = Instant::now();
+        let mut at = None;
+        let mut written = 0;
+        for k in from..=to {
+            let t0 = Instant::now();
+            catch_up(&mut stage, out, k, &mut at, events)?;
+            stage.pose(timeline.time_of(k)).with_context(|| format!("{label}: frame {k}"))?;
+            at = Some(k);
+            if k.is_multiple_of(self.checkpoint_every) && !checkpoints::path(out, k).is_file() {
+                checkpoints::save(&stage, out, k)?;
+                written += 1;
+            }
+            events(AnimateEvent::Simulated { k, took: t0.elapsed() });
+        }
+        let steps = stage.world().map_or(0, |w| w.steps());
+        Ok(format!(
+            "{label}: simulated to frame {to} (step {steps}) in {:.2} s, {written} checkpoints written -> {}",
+            started.elapsed().as_secs_f64(),
+            checkpoints::dir(out).display()
+        ))
+    }
+}
+
+/// Before the simulation steps to frame `k`: restores the latest checkpoint at or before
+/// `k` when it is ahead of where the simulation stands (`at`), so a resumed run, a block
+/// of frames, or a shard behind another one does not step through what is saved.
+fn catch_up(
+    stage: &mut Stage,
+    out: &Path,
+    k: u32,
+    at: &mut Option<u32>,
+    events: &mut dyn FnMut(AnimateEvent<'_>),
+) -> Result<()> {
+    if let Some(c) = checkpoints::nearest(out, k).filter(|&c| at.is_none_or(|a| c > a)) {
+        checkpoints::restore(stage, out, c)?;
+        *at = Some(c);
+        events(AnimateEvent::FromCheckpoint { frame: c });
+    }
+    Ok(())
 }
 
 /// The timings file: new (with its header), or appended to when resuming one that has
@@ -284,22 +384,4 @@ pub fn write_obj(frame: &Frame, path: &Path) -> Result<()> {
     }
     tmp.persist(path).map_err(|e| e.error).with_context(|| format!("{}: cannot write", path.display()))?;
     Ok(())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::shard_frames;
-
-    #[test]
-    fn shard_frames_count_what_the_filter_lists() {
-        for (first, last) in [(0, 0), (0, 9), (3, 17), (5, 5), (7, 100)] {
-            for shards in 1..5 {
-                for shard in 0..shards {
-                    let listed = (first..=last).filter(|k| k % shards == shard).count() as u64;
-                    assert_eq!(shard_frames(first, last, shard, shards), listed, "{first}..={last} {shard}/{shards}");
-                }
-            }
-        }
-        assert_eq!(shard_frames(0, u32::MAX, 0, 1), 1 << 32);
-    }
 }
