@@ -62,6 +62,7 @@ mod huge_pages;
 pub mod kdtree;
 pub mod octree;
 mod outline;
+mod rebase;
 mod registry;
 mod spec;
 pub mod structure_params;

@@ -18,6 +18,7 @@
 
 use super::shape::GridShape;
 use super::Grid;
+use crate::rebase::{cull, Rebased};
 use crate::Counter;
 use dynray_geom::{Hit, PreparedRay, Ray};
 use std::cmp::Ordering;
@@ -141,10 +142,14 @@ impl Grid {
     /// Closest hit, identical to brute force.
     pub(super) fn closest<C: Counter>(&self, ray: &Ray, c: &mut C) -> Hit {
         let r = PreparedRay::new(ray);
+        // Cells are walked from near the grid for a far origin (rebase.rs); triangles
+        // are tested against the ray as given.
+        let rebased = Rebased::new(ray, &self.shape.bounds);
+        let w = rebased.as_ref().map(|b| PreparedRay::new(&b.ray));
         let mut best = Hit::MISS;
         let mut mailbox = [u32::MAX; MAILBOX];
         let mut slot = 0;
-        self.walk(&r, c, |cell, c| {
+        self.walk(w.as_ref().unwrap_or(&r), c, |cell, c| {
             for &prim in self.cell_refs(cell) {
                 if mailbox.contains(&prim) {
                     continue;
@@ -158,7 +163,7 @@ impl Grid {
                     }
                 }
             }
-            Some(best.t)
+            Some(cull(&rebased, best.t))
         });
         best
     }
@@ -166,8 +171,9 @@ impl Grid {
     /// Any hit in `[tmin, tmax]`, stopping at the first.
     pub(super) fn any<C: Counter>(&self, ray: &Ray, c: &mut C) -> bool {
         let r = PreparedRay::new(ray);
+        let w = Rebased::new(ray, &self.shape.bounds).map(|b| PreparedRay::new(&b.ray));
         let mut found = false;
-        self.walk(&r, c, |cell, c| {
+        self.walk(w.as_ref().unwrap_or(&r), c, |cell, c| {
             let refs = self.cell_refs(cell);
             c.triangles(refs.len() as u32);
             found = refs.iter().any(|&p| self.tris[p as usize].intersect(&r, ray.tmax).is_some());

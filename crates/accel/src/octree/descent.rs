@@ -13,6 +13,7 @@ use super::node::LEAF_BIT;
 use super::params::MAX_DEPTH_LIMIT;
 use super::walk::lower;
 use super::Octree;
+use crate::rebase::{cull, Rebased};
 use crate::Counter;
 use dynray_geom::{Hit, PreparedRay, Ray};
 use glam::Vec3;
@@ -77,7 +78,12 @@ impl Octree {
             return Hit::MISS;
         }
         let r = PreparedRay::new(ray);
-        let Some((t0, t1)) = self.root_box.clip(&r, ray.tmin, ray.tmax) else { return Hit::MISS };
+        // Nodes are split from near the root cube for a far origin (rebase.rs);
+        // triangles are tested against the ray as given.
+        let rebased = Rebased::new(ray, &self.root_box);
+        let w = rebased.as_ref().map(|b| PreparedRay::new(&b.ray));
+        let w = w.as_ref().unwrap_or(&r);
+        let Some((t0, t1)) = self.root_box.clip(w, w.ray.tmin, w.ray.tmax) else { return Hit::MISS };
         let mut best = Hit::MISS;
         if self.root & LEAF_BIT != 0 {
             c.node();
@@ -87,7 +93,7 @@ impl Octree {
         // Internal nodes are at depths 0..fine_depth, at most MAX_DEPTH_LIMIT of them on a
         // path (validate() checks the tree's depth against the same limit).
         let mut stack = [Frame::default(); MAX_DEPTH_LIMIT as usize];
-        stack[0] = Frame::new(self.root, self.root_box.min, self.root_box.max, t0, t1, &r);
+        stack[0] = Frame::new(self.root, self.root_box.min, self.root_box.max, t0, t1, w);
         let mut sp = 1;
         c.node();
         while sp > 0 {
@@ -105,7 +111,7 @@ impl Octree {
             }
             f.next += 1;
             // Children come in ray order: nothing from here on can beat the best hit.
-            if best.t.min(ray.tmax) < lower(a) {
+            if cull(&rebased, best.t.min(ray.tmax)) < lower(a) {
                 break;
             }
             let child = self.inner[f.node as usize].child[oct];
@@ -120,7 +126,7 @@ impl Octree {
                 let lo = Vec3::select(up, mid, f.lo);
                 let hi = Vec3::select(up, f.hi, mid);
                 debug_assert!(sp < stack.len(), "tree deeper than MAX_DEPTH_LIMIT");
-                stack[sp] = Frame::new(child, lo, hi, a, b, &r);
+                stack[sp] = Frame::new(child, lo, hi, a, b, w);
                 sp += 1;
             }
         }

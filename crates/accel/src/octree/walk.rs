@@ -30,6 +30,7 @@ use super::tables::{
     OUT_FACES_LOOKUP,
 };
 use super::Octree;
+use crate::rebase::{cull, Rebased};
 use crate::Counter;
 use dynray_geom::{Hit, PreparedRay, Ray};
 use glam::Vec3;
@@ -73,16 +74,21 @@ impl Octree {
 
     /// Closest hit (or, with `ANY`, any hit) by the neighbour walk.
     pub(super) fn walk<C: Counter, const ANY: bool>(&self, ray: &Ray, c: &mut C) -> Hit {
-        let (o, d) = (ray.origin, ray.dir);
         // A zero or NaN direction hits nothing (the triangle test divides by it).
         if ray.dir.is_nan() || ray.dir == Vec3::ZERO {
             return Hit::MISS;
         }
         let r = PreparedRay::new(ray);
-        if self.root_box.clip(&r, ray.tmin, ray.tmax).is_none() {
+        // Leaves are walked from near the root cube for a far origin (rebase.rs);
+        // triangles are tested against the ray as given.
+        let rebased = Rebased::new(ray, &self.root_box);
+        let w = rebased.as_ref().map(|b| PreparedRay::new(&b.ray));
+        let w = w.as_ref().unwrap_or(&r);
+        let (o, d) = (w.ray.origin, w.ray.dir);
+        if self.root_box.clip(w, w.ray.tmin, w.ray.tmax).is_none() {
             return Hit::MISS;
         }
-        let mut addr = self.start(&r);
+        let mut addr = self.start(w);
         let v = exit_vertex(d);
         let mut best = Hit::MISS;
         let max_steps = 6usize << self.fine_depth;
@@ -93,11 +99,11 @@ impl Octree {
             }
             let b = &self.boxes[self.records[addr + REC_LEAF] as usize];
             let far = Vec3::select(d.cmpgt(Vec3::ZERO), b.max, b.min);
-            let ts = (far - o) * r.inv_dir;
+            let ts = (far - o) * w.inv_dir;
             let ax_t = [0, 1, 2].map(|a| if d[a] != 0.0 { ts[a] } else { f32::INFINITY });
             let t_exit = ax_t[0].min(ax_t[1]).min(ax_t[2]);
             // Everything in later leaves lies at t >= t_exit (up to rounding).
-            if best.t.min(ray.tmax) < lower(t_exit) || !t_exit.is_finite() {
+            if cull(&rebased, best.t.min(ray.tmax)) < lower(t_exit) || !t_exit.is_finite() {
                 return best;
             }
             let face = {

@@ -241,11 +241,39 @@ pub fn bunny_rays(mesh: &TriangleMesh) -> Vec<Ray> {
     r
 }
 
-/// The standard set for the 202k-triangle dragon: 20k random + 5k adversarial.
+/// The standard set for the 202k-triangle dragon: 20k random + 5k adversarial + 2k far.
 pub fn dragon_rays(mesh: &TriangleMesh) -> Vec<Ray> {
     let mut r = random_rays(mesh, 20_000, 3);
     r.extend(adversarial_rays(mesh, 5_000, 4));
+    r.extend(far_rays(mesh, 2_000, 5));
     r
+}
+
+/// Rays from 10^5 to 10^10 units away (10^k × the model's size, k in 0..5, scaled by its
+/// distance unit), aimed at vertices, edge midpoints and triangle centroids: the entry
+/// point's arithmetic far from the model is where an exact walk can lose its way.
+pub fn far_rays(mesh: &TriangleMesh, n: usize, seed: u64) -> Vec<Ray> {
+    let mut rng = SmallRng::seed_from_u64(seed);
+    let c = mesh.bounds().center();
+    let nt = mesh.triangle_count();
+    (0..n)
+        .map(|i| {
+            let tri = mesh.triangle(rng.gen_range(0..nt));
+            let target = match i % 3 {
+                0 => tri.p0,
+                1 => (tri.p1 + tri.p2) * 0.5,
+                _ => tri.centroid(),
+            };
+            let distance = 10f32.powi(5 + (i % 6) as i32);
+            let o = c + rand_dir(&mut rng) * distance;
+            if i % 4 == 3 {
+                // Normalised: t is then about the distance itself.
+                Ray::new(o, (target - o).normalize())
+            } else {
+                Ray::new(o, target - o)
+            }
+        })
+        .collect()
 }
 
 /// `mesh` with every vertex moved by a travelling wave of `amp` × the model's largest
