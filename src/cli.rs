@@ -387,6 +387,11 @@ pub struct AnimateArgs {
     /// (0: never); runs continue from the latest checkpoint instead of time 0.
     #[arg(long, value_name = "K", default_value_t = 1)]
     pub checkpoint_every: u32,
+    /// With physics, wait up to SECS for each frame's checkpoint from a
+    /// `--checkpoints-only` job running alongside, instead of simulating to it (after a
+    /// wait times out the run simulates on its own).
+    #[arg(long, value_name = "SECS", value_parser = parse_seconds)]
+    pub await_checkpoints: Option<std::time::Duration>,
     /// Simulate the physics and write checkpoints without rendering: the first job of a
     /// chain whose `--shard K/N:blocks` tasks then render in parallel.
     #[arg(long, conflicts_with = "merge")]
@@ -409,6 +414,15 @@ pub struct AnimateArgs {
     #[arg(long, default_value = "wavefront", value_parser = PossibleValuesParser::new(GpuStrategy::NAMES)
         .map(|s| s.parse::<GpuStrategy>().expect("listed names parse")))]
     pub gpu_strategy: GpuStrategy,
+}
+
+/// A non-negative, finite number of seconds.
+fn parse_seconds(s: &str) -> Result<std::time::Duration, String> {
+    s.trim()
+        .parse::<f64>()
+        .ok()
+        .and_then(|x| std::time::Duration::try_from_secs_f64(x).ok())
+        .ok_or_else(|| format!("`{s}`: expected a number of seconds, as in 600"))
 }
 
 /// `A..B` (inclusive) or `K`.

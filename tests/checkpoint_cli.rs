@@ -120,3 +120,44 @@ fn merge_refuses_missing_frames_and_joins_every_tasks_timings() {
     std::fs::write(out.join("timings_shard_9_of_9.csv"), "frame;time\n1;2\n").unwrap();
     fails_with(animate(&out, &["--merge"]), "timings_shard_9_of_9.csv");
 }
+
+#[test]
+fn blocks_awaiting_a_simulation_beside_them_and_a_wait_that_times_out_give_one_runs_frames() {
+    let tmp = tempfile::tempdir().unwrap();
+    let full = tmp.path().join("full");
+    ok(animate(&full, &["--checkpoint-every", "0"]));
+    let want = frames(&full);
+
+    // The simulation job and the second block started together: the block waits for
+    // each checkpoint instead of simulating to its first frame.
+    let pipe = tmp.path().join("pipe");
+    let bin = env!("CARGO_BIN_EXE_dynray");
+    let args = |extra: &[&str]| {
+        let mut a: Vec<String> = ["animate", SCENE, "--out", pipe.to_str().unwrap(), "--width", "40", "--height", "30"]
+            .map(str::to_string)
+            .to_vec();
+        a.extend(["--spp", "1", "--frames", "0..7"].map(str::to_string));
+        a.extend(extra.iter().map(|s| s.to_string()));
+        a
+    };
+    let block = std::process::Command::new(bin)
+        .current_dir(support::root())
+        .args(args(&["--shard", "1/2:blocks", "--await-checkpoints", "60"]))
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    ok(dynray(&args(&["--checkpoints-only"]).iter().map(String::as_str).collect::<Vec<_>>()));
+    let o = block.wait_with_output().unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("continues from the checkpoint of frame 4"), "{}", stderr(&o));
+    ok(animate(&pipe, &["--shard", "0/2:blocks"]));
+    assert_eq!(frames(&pipe), want, "blocks that awaited checkpoints differ from one run");
+
+    // Nothing writes checkpoints: the wait times out once and the run simulates itself.
+    let alone = tmp.path().join("alone");
+    let started = std::time::Instant::now();
+    ok(animate(&alone, &["--checkpoint-every", "0", "--await-checkpoints", "2"]));
+    // Eight frames: waiting for each would take 16 s.
+    assert!(started.elapsed() < std::time::Duration::from_secs(10), "waited more than once");
+    assert_eq!(frames(&alone), want);
+}

@@ -50,6 +50,17 @@ p4=$(DYNRAY_SHARDS=blocks array --array=0-1 --cpus-per-task=1 "$here/animate.sba
 same pone pshards
 same pone pblocks
 same pone ptwo
+# The pipelined chain: the simulation as a job of its own beside two blocks that wait for
+# its checkpoints (what submit.sh --physics submits).
+rm -rf ppipe
+s=$(now)
+sim=$(sbatch --parsable --cpus-per-task=1 "$here/simulate.sbatch" "$drop" ppipe)
+j=$(DYNRAY_SHARDS=blocks sbatch --parsable --array=0-1 --cpus-per-task=1 "$here/animate.sbatch" "$drop" ppipe "${popts[@]}" --await-checkpoints 600)
+wait_job "$sim"
+wait_job "$j"
+p5=$(secs "$s" "$(now)")
+same pone ppipe
 echo "bunny drop, 36 frames 320x240 4 spp: one process, 1 thread ${p1} s (posing and physics $(pose_s pone/timings.csv) s); 2 threads ${p0} s"
 echo "  Slurm, 2 interleaved shards x 1 CPU, no checkpoints: ${p2} s (posing and physics $(pose_s pshards/timings_shard_*.csv) s over both tasks)"
 echo "  --checkpoints-only, 1 thread: ${p3} s, then 2 blocks x 1 CPU: ${p4} s (posing and physics $(pose_s pblocks/timings_shard_*.csv) s over both tasks)"
+echo "  the simulation job beside 2 blocks x 1 CPU waiting for its checkpoints: ${p5} s (posing and physics $(pose_s ppipe/timings_shard_*.csv) s over both blocks)"

@@ -2,9 +2,11 @@
 # Submits the whole chain for one animation and prints the job ids:
 #
 #   deploy/slurm/submit.sh N SCENE OUTDIR [animate options…]            # N interleaved shards
-#   deploy/slurm/submit.sh --physics N SCENE OUTDIR [animate options…]  # simulate, then N blocks
+#   deploy/slurm/submit.sh --physics N SCENE OUTDIR [animate options…]  # simulate + N blocks
 #
-# then the merge once every task has ended. Extra sbatch options (a partition, an
+# then the merge once every task has ended. With --physics the simulation job writes a
+# checkpoint every frame while the N block tasks run beside it, each waiting for the
+# checkpoint of the frame it renders next (`--await-checkpoints`) instead of simulating. Extra sbatch options (a partition, an
 # account, --cpus-per-task) go in SBATCH_* environment variables, which sbatch reads.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
@@ -19,14 +21,16 @@ if [ $# -lt 3 ] || ! [[ $1 =~ ^[1-9][0-9]*$ ]]; then
 fi
 n=$1
 shift
-after=()
+ended="afterany"
+wait=()
 if [ $physics = 1 ]; then
   sim=$(sbatch --parsable "$here/simulate.sbatch" "$@")
   echo "simulate: $sim"
-  after=(--dependency="afterok:$sim")
+  ended="afterany:$sim"
+  wait=(--await-checkpoints 3600)
   export DYNRAY_SHARDS=blocks
 fi
-frames=$(sbatch --parsable --kill-on-invalid-dep=yes "${after[@]}" --array="0-$((n - 1))" "$here/animate.sbatch" "$@")
+frames=$(sbatch --parsable --array="0-$((n - 1))" "$here/animate.sbatch" "$@" "${wait[@]}")
 echo "frames: $frames"
-merge=$(sbatch --parsable --dependency="afterany:$frames" "$here/merge.sbatch" "$@")
+merge=$(sbatch --parsable --dependency="$ended:$frames" "$here/merge.sbatch" "$@")
 echo "merge: $merge"

@@ -23,6 +23,7 @@ pub fn run(a: AnimateArgs) -> Result<()> {
         shard: a.shard,
         resume: a.resume,
         checkpoint_every: a.checkpoint_every,
+        await_checkpoints: a.await_checkpoints,
         export_meshes: a.export_meshes,
         flat_shading: a.flat_shading,
         backend: a.backend.choice(),

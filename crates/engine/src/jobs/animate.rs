@@ -70,6 +70,10 @@ pub struct AnimateJob {
     /// `k % every == 0`) to `OUT/checkpoints/`; 0: never. Runs continue from the latest
     /// checkpoint at or before each frame they render instead of from time 0.
     pub checkpoint_every: u32,
+    /// With physics, wait up to this long for the checkpoint of each frame to appear
+    /// (written by a `--checkpoints-only` job running alongside) before simulating to it;
+    /// after one wait times out the run simulates on its own. `None`: never wait.
+    pub await_checkpoints: Option<Duration>,
     /// Also write each frame's world-space triangles as OBJ.
     pub export_meshes: bool,
     /// Flat shading for every actor.
@@ -186,11 +190,12 @@ impl AnimateJob {
         let mut rays_total = 0u64;
         // The frame the simulation stands at (`None`: time 0).
         let mut at = None;
+        let mut wait = self.await_checkpoints;
         for &k in &todo {
             let t = timeline.time_of(k);
             let t0 = Instant::now();
             if physics {
-                catch_up(&mut step.stage, out, k, &mut at, events)?;
+                catch_up(&mut step.stage, out, k, &mut at, &mut wait, events)?;
             }
             let at_frame = || format!("{label}: frame {k}");
             let report = step.advance_to(t).with_context(at_frame)?;
@@ -313,7 +318,7 @@ impl AnimateJob {
         let mut written = 0;
         for k in from..=to {
             let t0 = Instant::now();
-            catch_up(&mut stage, out, k, &mut at, events)?;
+            catch_up(&mut stage, out, k, &mut at, &mut None, events)?;
             stage.pose(timeline.time_of(k)).with_context(|| format!("{label}: frame {k}"))?;
             at = Some(k);
             if k.is_multiple_of(self.checkpoint_every) && !checkpoints::path(out, k).is_file() {
@@ -334,13 +339,29 @@ impl AnimateJob {
 /// Before the simulation steps to frame `k`: restores the latest checkpoint at or before
 /// `k` when it is ahead of where the simulation stands (`at`), so a resumed run, a block
 /// of frames, or a shard behind another one does not step through what is saved.
+///
+/// With `wait`, first waits (polling) up to that long for frame `k`'s own checkpoint; a
+/// wait that times out clears `wait`, so a simulation job that died costs one timeout.
 fn catch_up(
     stage: &mut Stage,
     out: &Path,
     k: u32,
     at: &mut Option<u32>,
+    wait: &mut Option<Duration>,
     events: &mut dyn FnMut(AnimateEvent<'_>),
 ) -> Result<()> {
+    if let Some(limit) = *wait {
+        if *at != Some(k) && !checkpoints::path(out, k).is_file() {
+            let start = Instant::now();
+            while !checkpoints::path(out, k).is_file() {
+                if start.elapsed() >= limit {
+                    *wait = None;
+                    break;
+                }
+                std::thread::sleep(Duration::from_millis(20));
+            }
+        }
+    }
     if let Some(c) = checkpoints::nearest(out, k).filter(|&c| at.is_none_or(|a| c > a)) {
         checkpoints::restore(stage, out, c)?;
         *at = Some(c);
