@@ -243,9 +243,15 @@ pub fn bunny_rays(mesh: &TriangleMesh) -> Vec<Ray> {
 
 /// The standard set for the 202k-triangle dragon: 20k random + 5k adversarial + 2k far.
 pub fn dragon_rays(mesh: &TriangleMesh) -> Vec<Ray> {
+    let mut r = dragon_near_rays(mesh);
+    r.extend(far_rays(mesh, 2_000, 5));
+    r
+}
+
+/// The dragon set without its far rays: 20k random + 5k adversarial.
+pub fn dragon_near_rays(mesh: &TriangleMesh) -> Vec<Ray> {
     let mut r = random_rays(mesh, 20_000, 3);
     r.extend(adversarial_rays(mesh, 5_000, 4));
-    r.extend(far_rays(mesh, 2_000, 5));
     r
 }
 
