@@ -9,6 +9,7 @@ use dynray_engine::jobs::shard::Shard;
 use dynray_engine::{BackendChoice, RenderJob, TimeChoice};
 use dynray_gpu::{Backend, GpuBuild, GpuOptions, GpuStrategy};
 use dynray_render::{Aov, IntegratorKind};
+use std::ops::Range;
 use std::path::PathBuf;
 
 /// Ray tracing of dynamic scenes with GPU-friendly acceleration structures.
@@ -30,6 +31,9 @@ pub enum Command {
     Render(RenderArgs),
     /// Trace a batch of rays from a .npy file and write the hits to a .npz file.
     TraceRays(TraceRaysArgs),
+    /// Join the archives of `trace-rays --rows A..B` into the archive one run over every
+    /// row writes (docs/trace-rays.md, "Slices").
+    MergeHits(MergeHitsArgs),
     /// Print a file's counts and bounding box and an acceleration structure's figures.
     Info(InfoArgs),
     /// Render the frames of an animated scene (.scn, .gltf/.glb, .aff) to numbered PNGs,
@@ -321,10 +325,40 @@ pub struct TraceRaysArgs {
     #[arg(long, value_name = "LIST", value_delimiter = ',', default_value = "t,prim,u,v",
         value_parser = PossibleValuesParser::new(HitField::NAMES).map(|s| s.parse::<HitField>().expect("listed names parse")))]
     pub fields: Vec<HitField>,
+    /// Trace only rows A..B of the ray file, B exclusive (as Python's `rays[A:B]`),
+    /// reading no other row; the archive adds `rows` = [A, B, N] for `merge-hits`.
+    #[arg(long, value_name = "A..B", value_parser = parse_row_range)]
+    pub rows: Option<Range<u64>>,
     #[command(flatten)]
     pub when: TimeArgs,
     #[command(flatten)]
     pub backend: BackendArgs,
+}
+
+/// `A..B` with `A <= B`, B exclusive: the rows of `trace-rays --rows`.
+fn parse_row_range(s: &str) -> Result<Range<u64>, String> {
+    let bad = || format!("`{s}`: expected A..B with row numbers A <= B, B exclusive (0..1000 is rows 0 to 999)");
+    let (a, b) = s.split_once("..").ok_or_else(bad)?;
+    if b.starts_with('=') {
+        return Err(format!("`{s}`: rows are half-open, A..B with B exclusive; write {a}..B+1"));
+    }
+    let (a, b) = (a.trim().parse::<u64>().map_err(|_| bad())?, b.trim().parse::<u64>().map_err(|_| bad())?);
+    if a > b {
+        return Err(format!("`{s}`: the first row {a} is after the end {b}"));
+    }
+    Ok(a..b)
+}
+
+/// `dynray merge-hits`.
+#[derive(Args, Debug)]
+pub struct MergeHitsArgs {
+    /// The slice archives of `trace-rays --rows A..B`, in any order: together they must
+    /// cover every row of one ray file once, with one query.
+    #[arg(required = true, value_name = "PART.npz")]
+    pub parts: Vec<PathBuf>,
+    /// The merged archive: what one `trace-rays` over every row writes (not a part).
+    #[arg(short, long, value_name = "HITS.npz")]
+    pub output: PathBuf,
 }
 
 /// `dynray animate` (docs/animate.md).

@@ -9,6 +9,11 @@ of the dynray engine, in process (docs/python.md).
 
 Every structure returns the same closest hit as brute force, bit for bit; queries
 release the GIL and run on all cores (``threads=`` to limit them).
+
+Files as the command line has them: ``trace_rays`` (``dynray trace-rays``, with
+``rows=(a, b)`` for a slice) and ``merge_hits`` (``dynray merge-hits``). Ray batches on a
+Dask cluster: ``dynray.distributed.trace_rays`` (imported on its own,
+``import dynray.distributed``; it needs ``pip install "dask[distributed]"``).
 """
 
 from ._dynray import (
@@ -20,6 +25,7 @@ from ._dynray import (
     accel_params,
     build,
     load,
+    merge_hits,
     render,
     trace_rays,
 )
@@ -33,6 +39,7 @@ __all__ = [
     "accel_params",
     "build",
     "load",
+    "merge_hits",
     "render",
     "trace_rays",
 ]

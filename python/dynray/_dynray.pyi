@@ -109,8 +109,10 @@ class Structure:
     @property
     def mesh(self) -> Mesh: ...
 
-def load(path: _Path) -> Scene:
-    """Any file the engine reads; OSError if unreadable, ValueError if malformed."""
+def load(path: _Path, *, time: Optional[float] = None, frame: Optional[int] = None) -> Scene:
+    """Any file the engine reads; OSError if unreadable, ValueError if malformed. With
+    `time` or `frame`, `mesh` is posed at that instant (physics simulated), as trace-rays
+    traces it."""
 
 def build(
     mesh: Mesh,
@@ -152,8 +154,15 @@ def trace_rays(
     time: Optional[float] = None,
     frame: Optional[int] = None,
     threads: Optional[int] = None,
+    rows: Optional[Tuple[int, int]] = None,
 ) -> Dict[str, Any]:
-    """`dynray trace-rays MESH --rays RAYS -o OUT` in process; returns counts and times."""
+    """`dynray trace-rays MESH --rays RAYS -o OUT` in process; returns counts and times.
+    `rows=(a, b)`: only rows a..b (b exclusive), as `--rows a..b`, the archive then
+    holding `rows` = [a, b, N]."""
+
+def merge_hits(parts: Sequence[_Path], out_path: _Path) -> Dict[str, Any]:
+    """`dynray merge-hits PART... -o OUT`: slice archives joined in row order into the
+    archive of one run over every row; ValueError for gaps, overlaps or mixed parts."""
 
 def accel_params(accel: str) -> Dict[str, Any]:
     """{"keys": {key: doc}, "presets": [names]} of a structure."""

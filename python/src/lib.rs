@@ -47,6 +47,7 @@ fn _dynray(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(structure::build, m)?)?;
     m.add_function(wrap_pyfunction!(render::render, m)?)?;
     m.add_function(wrap_pyfunction!(trace_file::trace_rays, m)?)?;
+    m.add_function(wrap_pyfunction!(trace_file::merge_hits, m)?)?;
     m.add_function(wrap_pyfunction!(accel_params, m)?)?;
     m.add("ACCELS", accel_names())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

@@ -23,13 +23,25 @@ pub struct Scene {
 /// Loads a mesh or scene file (`.obj` with its `.mtl`, `.ply`, `.ply.gz`, `.gltf`,
 /// `.glb`, `.npz` with `vertices` and `faces`, `.scn`). Raises `OSError` (e.g.
 /// `FileNotFoundError`, `filename` set) when it cannot be read and `ValueError` naming
-/// the file (and line) when its content is wrong or its type unknown.
+/// the file (and line) when its content is wrong or its type unknown. `time` (seconds)
+/// or `frame` pose `mesh` at that instant of an animated file, its physics simulated to
+/// it: the triangles `trace_rays(..., time=, frame=)` and `dynray trace-rays --time/--frame`
+/// trace (the engine's own posing, `dynray_engine::jobs::trace::posed_mesh`).
 #[pyfunction]
-pub fn load(py: Python<'_>, path: PathBuf) -> PyResult<Scene> {
+#[pyo3(signature = (path, *, time = None, frame = None))]
+pub fn load(py: Python<'_>, path: PathBuf, time: Option<f32>, frame: Option<u32>) -> PyResult<Scene> {
     let report = py.detach(|| dynray_scene::load_file_unshaded(&path)).map_err(load_error)?;
-    // Frame 0 is the timeline's start, as every front end counts it (engine's timeline.rs).
-    let t0 = dynray_engine::timeline::frame_zero(&report.scene);
-    let mesh = Py::new(py, Mesh::from_mesh(report.scene.frame(t0).mesh))?;
+    let mesh = if time.is_none() && frame.is_none() {
+        // Frame 0 is the timeline's start, as every front end counts it (engine's timeline.rs).
+        let t0 = dynray_engine::timeline::frame_zero(&report.scene);
+        report.scene.frame(t0).mesh
+    } else {
+        let when = dynray_engine::TimeChoice { time, frame, ..Default::default() };
+        let loaded = dynray_engine::Loaded::from_scene(report.scene.clone(), path.display().to_string());
+        py.detach(|| when.check().and_then(|()| dynray_engine::jobs::trace::posed_mesh(loaded, &when)))
+            .map_err(crate::errors::file_error)?
+    };
+    let mesh = Py::new(py, Mesh::from_mesh(mesh))?;
     let mut warnings: Vec<String> = Vec::new();
     for w in report.warnings.iter().map(|w| w.to_string()) {
         if !warnings.contains(&w) {

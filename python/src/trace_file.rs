@@ -16,10 +16,13 @@ use std::path::PathBuf;
 /// MESH --rays RAYS -o OUT --accel ACCEL [--occluded | --fields …]` does. `fields`
 /// defaults to `["t", "prim", "u", "v"]`. `time` (seconds) or `frame` pick the instant of
 /// an animated file (frame 0 by default), its physics simulated to it, as `--time` and
-/// `--frame` do. The CLI's notes (converted rays) and load
-/// warnings are issued as `UserWarning`s. Returns the counts and times (ms) as a dict.
+/// `--frame` do. `rows=(a, b)` traces only rows `a..b` of the file (b exclusive, as
+/// `rays[a:b]`), reading no other row, and records them in an int64 array `rows` =
+/// `[a, b, N]`, as `--rows a..b` does; `merge_hits` joins such parts. The CLI's notes
+/// (converted rays) and load warnings are issued as `UserWarning`s. Returns the counts
+/// and times (ms) as a dict.
 #[pyfunction]
-#[pyo3(signature = (mesh_path, rays_path, out_path, accel = "bvh", occluded = false, fields = None, *, time = None, frame = None, threads = None))]
+#[pyo3(signature = (mesh_path, rays_path, out_path, accel = "bvh", occluded = false, fields = None, *, time = None, frame = None, threads = None, rows = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn trace_rays<'py>(
     py: Python<'py>,
@@ -32,6 +35,7 @@ pub fn trace_rays<'py>(
     time: Option<f32>,
     frame: Option<u32>,
     threads: Option<usize>,
+    rows: Option<(u64, u64)>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let spec: dynray_accel::AccelSpec = accel.parse().map_err(build_error)?;
     let query = match (occluded, fields) {
@@ -46,6 +50,7 @@ pub fn trace_rays<'py>(
     let job = TraceJob {
         mesh: mesh_path,
         rays: rays_path,
+        rows: rows.map(|(a, b)| a..b),
         output: out_path,
         accel: spec,
         query,
@@ -66,5 +71,22 @@ pub fn trace_rays<'py>(
     for (k, t) in [("read_ms", s.read), ("build_ms", s.build), ("trace_ms", s.trace), ("write_ms", s.write)] {
         d.set_item(k, t.as_secs_f64() * 1e3)?;
     }
+    Ok(d)
+}
+
+/// Joins the slice archives `parts` (written with `rows=(a, b)` or `trace-rays --rows`,
+/// in any order) into `out_path`, exactly the archive one run over every row writes, as
+/// `dynray merge-hits PART… -o OUT` does. Gaps, overlaps, parts of different ray files or
+/// queries, and an output that is one of the parts raise `ValueError` naming the files
+/// (`OSError` when a part cannot be read). Returns the parts and rays merged and the
+/// arrays written.
+#[pyfunction]
+pub fn merge_hits<'py>(py: Python<'py>, parts: Vec<PathBuf>, out_path: PathBuf) -> PyResult<Bound<'py, PyDict>> {
+    let s = py.detach(|| dynray_engine::merge_hits(&parts, &out_path)).map_err(file_error)?;
+    let d = PyDict::new(py);
+    d.set_item("parts", s.parts)?;
+    d.set_item("rays", s.rays)?;
+    d.set_item("arrays", s.arrays)?;
+    d.set_item("merge_ms", s.time.as_secs_f64() * 1e3)?;
     Ok(d)
 }

@@ -74,3 +74,30 @@ def test_float64_and_fortran_rays_are_converted_with_a_note(bunny, rays, files):
         dynray.trace_rays(BUNNY, files / "rays64.npy", files / "h64.npz")
     want = dynray.build(bunny.mesh).intersect(rays)
     assert np.array_equal(bits(np.load(files / "h64.npz")["t"]), bits(want["t"]))
+
+
+def test_row_slices_merge_into_the_full_archive(rays, files):
+    """trace_rays(rows=(a, b)) is `trace-rays --rows a..b`; merge_hits is `merge-hits`."""
+    n = len(rays)
+    full = files / "full-rows.npz"
+    dynray.trace_rays(BUNNY, files / "rays.npy", full)
+    whole = np.load(full)
+    parts = []
+    for a, b in [(4000, n), (0, 1234), (1234, 4000)]:
+        p = files / f"part-{a}.npz"
+        assert dynray.trace_rays(BUNNY, files / "rays.npy", p, rows=(a, b))["rays"] == b - a
+        part = np.load(p)
+        assert part.files == ["t", "prim", "u", "v", "rows"] and list(part["rows"]) == [a, b, n]
+        for k in ("t", "prim", "u", "v"):
+            assert np.array_equal(bits(part[k]), bits(whole[k][a:b])), k
+        parts.append(p)
+    summary = dynray.merge_hits(parts, files / "merged.npz")
+    assert (summary["parts"], summary["rays"], summary["arrays"]) == (3, n, ["t", "prim", "u", "v"])
+    assert (files / "merged.npz").read_bytes() == full.read_bytes()
+    with pytest.raises(ValueError, match="rows 1234..4000 are in no part"):
+        dynray.merge_hits(parts[:2], files / "gap.npz")
+    with pytest.raises(ValueError, match="the output is one of the parts"):
+        dynray.merge_hits(parts, parts[0])
+    with pytest.raises(ValueError, match=f"rows 0..{n + 1} reach past the file's {n} rays"):
+        dynray.trace_rays(BUNNY, files / "rays.npy", files / "past.npz", rows=(0, n + 1))
+    assert not (files / "gap.npz").exists() and not (files / "past.npz").exists()

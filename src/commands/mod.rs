@@ -6,6 +6,7 @@ mod adf;
 mod animate;
 mod bench;
 mod info;
+mod merge_hits;
 mod render;
 mod trace_rays;
 mod view;
@@ -24,6 +25,7 @@ pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Render(a) => render::run(a),
         Command::TraceRays(a) => trace_rays::run(a),
+        Command::MergeHits(a) => merge_hits::run(a),
         Command::Info(a) => info::run(a),
         Command::Animate(a) => animate::run(a),
         Command::Bench(a) => bench::run(a),

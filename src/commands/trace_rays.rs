@@ -13,6 +13,7 @@ pub fn run(a: TraceRaysArgs) -> Result<()> {
         backend: a.backend.choice(),
         mesh: a.mesh,
         rays: a.rays,
+        rows: a.rows,
         output: a.output,
         accel: a.accel,
     };

@@ -250,6 +250,7 @@ impl Adf {
         let hash = PerfectHash { m: h.hash_m, r: h.hash_r, phi, table, high, attempts: h.hash_attempts };
         // Every stored cell must be where its key hashes, inside the tree, and name a block.
         let mut stored = 0u64;
+        let mut stored_per_level = [0u64; LEVEL_SLOTS];
         for (s, k) in (0..hash.table.len()).filter_map(|s| Some((s, hash.key_at(s)?))) {
             let e = hash.table[s];
             let level = 31 - k[0].max(1).leading_zeros();
@@ -258,6 +259,7 @@ impl Adf {
                 return Err(corrupt(format!("cell table slot {s} holds an invalid entry {e:?}")));
             }
             stored += 1;
+            stored_per_level[level as usize] += 1;
         }
         if stored != n || hash.find([1, 1, 1]).is_none() {
             return Err(corrupt(format!("{stored} cells in the table, header says {n} (root included)")));
@@ -288,8 +290,26 @@ impl Adf {
             triangles: join(h.triangles),
             view,
         };
-        if info.internal_per_level.iter().sum::<u64>() != n {
-            return Err(corrupt("per-level cell counts do not add up".into()));
+        // The counts `info` prints and `cells()` adds up: each level's internal cells are
+        // the ones the table holds, and the tree is complete (the root splits, and every
+        // internal cell's 8 children are internal cells or leaves of the next level). A
+        // header's leaf counts are otherwise any 64-bit numbers, whose sum overflowed
+        // (found by fuzzing, docs/fuzzing.md).
+        if info.internal_per_level[..] != stored_per_level[..levels] {
+            return Err(corrupt(format!(
+                "per-level internal cell counts {:?} are not the table's {:?}",
+                info.internal_per_level,
+                &stored_per_level[..levels]
+            )));
+        }
+        let mut children = 1u64;
+        for (level, (&internal, &leaves)) in info.internal_per_level.iter().zip(&info.leaves_per_level).enumerate() {
+            if internal.checked_add(leaves) != Some(children) || (level == levels - 1 && internal != 0) {
+                return Err(corrupt(format!(
+                    "level {level} has {internal} internal cells and {leaves} leaves; the level above splits into {children} cells"
+                )));
+            }
+            children = 8 * internal;
         }
         Ok(Adf {
             max_level: h.max_level,
@@ -302,5 +322,64 @@ impl Adf {
             hash,
             info,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{BuildParams, SphereSource};
+    use std::mem::offset_of;
+
+    /// `bytes` with its checksum written again over the body, as a damaged file made by
+    /// a tool (or an attacker) that knows the format would have it.
+    fn resummed(mut bytes: Vec<u8>) -> Vec<u8> {
+        let body = bytes.len() - 8;
+        let sum = fnv1a(&bytes[..body]);
+        bytes[body..].copy_from_slice(&sum.to_le_bytes());
+        bytes
+    }
+
+    /// Regression (found by fuzzing, docs/fuzzing.md): the header's leaf counts were
+    /// taken as written, so a file with a valid checksum and a leaf count near 2^64 loaded,
+    /// and `cells()` (`dynray info`'s cell count) overflowed adding them up: a panic with
+    /// overflow checks, a wrapped count without. The per-level counts must now describe
+    /// the tree the cell table holds.
+    #[test]
+    fn per_level_counts_must_describe_the_stored_tree() {
+        let src = SphereSource { centre: Vec3::new(0.1, -0.2, 0.05), radius: 1.0 };
+        let b = Aabb::new(Vec3::splat(-2.0), Vec3::splat(2.0));
+        let adf = Adf::build(&src, b, &BuildParams { max_level: 4, epsilon: 1e-3 }, &|_, _| {}).unwrap();
+        let bytes = adf.to_bytes();
+        let p = Path::new("x.adf");
+        let loaded = Adf::from_bytes(&bytes, p).unwrap();
+        assert_eq!(loaded.cells(), 1 + 8 * loaded.internal_cells());
+
+        let leaves = offset_of!(Header, leaves_per_level);
+        let internal = offset_of!(Header, internal_per_level);
+        let mut huge = bytes.clone();
+        huge[leaves + 8 * 2..leaves + 8 * 3].copy_from_slice(&u64::MAX.to_le_bytes());
+        let e = Adf::from_bytes(&resummed(huge), p).unwrap_err().to_string();
+        assert!(e.starts_with("x.adf: ") && e.contains("level 2 has"), "{e}");
+
+        // One leaf too many at the deepest level, and the root counted as a leaf.
+        let mut extra = bytes.clone();
+        let at = leaves + 8 * 4;
+        let n = u64::from_le_bytes(extra[at..at + 8].try_into().unwrap());
+        extra[at..at + 8].copy_from_slice(&(n + 1).to_le_bytes());
+        assert!(matches!(Adf::from_bytes(&resummed(extra), p), Err(FileError::Corrupt { .. })));
+        let mut root = bytes.clone();
+        root[leaves..leaves + 4].copy_from_slice(&1u32.to_le_bytes());
+        assert!(matches!(Adf::from_bytes(&resummed(root), p), Err(FileError::Corrupt { .. })));
+
+        // Internal counts moved between levels keep their sum but not the table's levels.
+        let mut moved = bytes;
+        let count =
+            |b: &[u8], l: usize| u32::from_le_bytes(b[internal + 4 * l..internal + 4 * l + 4].try_into().unwrap());
+        let (one, two) = (count(&moved, 1), count(&moved, 2));
+        moved[internal + 4..internal + 8].copy_from_slice(&(one + 1).to_le_bytes());
+        moved[internal + 8..internal + 12].copy_from_slice(&(two - 1).to_le_bytes());
+        let e = Adf::from_bytes(&resummed(moved), p).unwrap_err().to_string();
+        assert!(e.contains("are not the table's"), "{e}");
     }
 }

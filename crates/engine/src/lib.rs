@@ -11,7 +11,8 @@
 //!   update policy ([`dynray_accel::PolicyState`]).
 //! - [`jobs`]: render, animate and trace, built from plain option structs, every option
 //!   combination checked before any work, progress through callbacks; [`Live`], the
-//!   viewer's progressive frames over the same render job.
+//!   viewer's progressive frames over the same render job. [`merge_hits`] joins the
+//!   trace job's row slices (`trace-rays --rows`) into one run's archive.
 //!
 //! Errors are `anyhow` chains: the engine adds file, frame and option context to the
 //! typed errors of the crates below it, and front ends print the chain (the binary) or
@@ -26,6 +27,7 @@ pub mod format;
 pub mod frame_step;
 pub mod heat;
 pub mod hit_file;
+pub mod hit_merge;
 pub mod jobs;
 pub mod load;
 pub mod output;
@@ -36,6 +38,7 @@ pub use backend::BackendChoice;
 pub use camera_text::{camera_text, parse_camera};
 pub use fields::Fields;
 pub use frame_step::{FrameSettings, FrameStep, PoseTiming, Stage, StepReport};
+pub use hit_merge::merge_hits;
 pub use jobs::animate::{AnimateEvent, AnimateJob};
 pub use jobs::live::{Live, LiveFrame};
 pub use jobs::render::{RenderJob, Rendered};

@@ -8,12 +8,13 @@
 
 use crate::backend::BackendChoice;
 use crate::frame_step::{FrameSettings, Stage};
-use crate::hit_file::{check_output, read_rays, write_hits, write_occluded, HitField};
+use crate::hit_file::{check_output, read_ray_rows, write_hits, write_occluded, HitField, RowSpan};
 use crate::load::Loaded;
 use crate::timeline::TimeChoice;
 use anyhow::{Context, Result};
 use dynray_accel::{AccelSpec, BatchQuery, Coherent};
 use dynray_geom::{Hit, Ray, TriangleMesh};
+use std::ops::Range;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
@@ -33,6 +34,10 @@ pub struct TraceJob {
     pub mesh: PathBuf,
     /// The (N, 8) `.npy` ray array.
     pub rays: PathBuf,
+    /// Only these rows of it (half-open, as Python's `rays[a:b]`), read without the rest
+    /// of the file; the archive then records them in an int64 array `rows` = `[a, b, N]`
+    /// (`dynray merge-hits` joins such slices). `None`: every row, no `rows` array.
+    pub rows: Option<Range<u64>>,
     /// The `.npz` archive to write.
     pub output: PathBuf,
     /// The structure and its parameters.
@@ -61,6 +66,8 @@ pub enum Notice {
 pub struct Summary {
     /// Rays traced.
     pub rays: usize,
+    /// The rows traced, when the job asked for a slice.
+    pub rows: Option<RowSpan>,
     /// Rays that hit (closest hits) or are occluded (any-hit).
     pub hits: usize,
     /// True for an any-hit run.
@@ -82,6 +89,9 @@ impl std::fmt::Display for Summary {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let ms = |d: Duration| d.as_secs_f64() * 1e3;
         let what = if self.occluded { "occluded" } else { "hits" };
+        if let Some(r) = self.rows {
+            write!(f, "rows {}..{} of {}: ", r.start, r.end, r.total)?;
+        }
         write!(
             f,
             "{} rays, {} {what}; read {:.1} ms, {} build {:.1} ms, trace {:.1} ms, write {:.1} ms",
@@ -122,7 +132,10 @@ impl TraceJob {
         self.when.check()?;
         self.backend.check()?;
         let t_read = Instant::now();
-        let rays = read_rays(&self.rays, &mut |m| notices(Notice::Note(m)))?;
+        let (rays, span) = read_ray_rows(&self.rays, self.rows.clone(), &mut |m| notices(Notice::Note(m)))?;
+        // The span goes into the archive only when a slice was asked for: a whole run's
+        // archive stays what it always was.
+        let span = self.rows.as_ref().map(|_| span);
         if crate::load::is_adf(&self.mesh) {
             anyhow::bail!("{}: a distance field has no triangles to trace; give its source mesh", self.mesh.display());
         }
@@ -137,13 +150,14 @@ impl TraceJob {
             .with_context(|| format!("{}: cannot build {}", self.mesh.display(), self.accel))?;
         let t2 = Instant::now();
         match (&answers, &self.query) {
-            (Answers::Occluded(o), _) => write_occluded(&self.output, o)?,
-            (Answers::Hits(h), Query::Closest(fields)) => write_hits(&self.output, fields, h, &mesh)?,
+            (Answers::Occluded(o), _) => write_occluded(&self.output, o, span)?,
+            (Answers::Hits(h), Query::Closest(fields)) => write_hits(&self.output, fields, h, &mesh, span)?,
             (Answers::Hits(_), Query::Occluded) => unreachable!("occluded queries answer booleans"),
         }
         let write = t2.elapsed();
         Ok(Summary {
             rays: rays.len(),
+            rows: span,
             hits: answers.count(),
             occluded,
             accel: timing.accel,

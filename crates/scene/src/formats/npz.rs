@@ -6,11 +6,13 @@
 //! engine's precision), faces as int32, int64, uint32 or uint64; either array in C or
 //! Fortran order. Triangle numbers are the rows of `faces`. Errors name the file and the
 //! array: a missing array, a wrong shape or dtype, a negative or out-of-range index,
-//! NaN or infinite coordinates.
+//! NaN or infinite coordinates. Each array's header is checked before npyz parses it
+//! ([`check_npy_header`]: length and nesting).
 
 use crate::LoadError;
 use dynray_geom::TriangleMesh;
 use npyz::npz::NpzArchive;
+use std::io::Read;
 use std::path::Path;
 
 /// Reads an `.npz` mesh into a validated mesh.
@@ -56,6 +58,15 @@ fn matrix(
     kind: Kind,
 ) -> Result<Vec<f64>, LoadError> {
     let bad = |m: String| LoadError::parse(path, None, format!("array `{name}`: {m}"));
+    // The header is looked at before npyz parses it (`check_npy_header`).
+    if let Ok(mut entry) = npz.zip_archive().by_name(&format!("{name}.npy")) {
+        let mut prefix = Vec::new();
+        (&mut entry)
+            .take(NPY_PREFIX_BYTES as u64)
+            .read_to_end(&mut prefix)
+            .map_err(|e| bad(format!("unreadable: {e}")))?;
+        check_npy_header(&prefix).map_err(bad)?;
+    }
     let npy = npz.by_name(name).map_err(|e| bad(format!("unreadable: {e}")))?.ok_or_else(|| {
         LoadError::parse(
             path,
@@ -93,6 +104,71 @@ fn matrix(
         return Ok(row_major(&values, rows, 3));
     }
     Ok(values)
+}
+
+/// Longest `.npy` header dynray reads: numpy's own `max_header_size` (numpy writes
+/// headers of about 128 bytes; it refuses to read longer than this without a flag).
+pub const MAX_NPY_HEADER_BYTES: usize = 10_000;
+
+/// Deepest bracket nesting of a header dynray reads: the dictionary, and the shape tuple
+/// inside it. Deeper headers are structured dtypes (lists of fields), which no dynray
+/// array has.
+const MAX_NPY_HEADER_DEPTH: usize = 2;
+
+/// Bytes [`check_npy_header`] needs to see: the longest preamble and header.
+pub const NPY_PREFIX_BYTES: usize = 12 + MAX_NPY_HEADER_BYTES;
+
+/// Checks the header of the `.npy` data starting with `prefix` (its first
+/// [`NPY_PREFIX_BYTES`] bytes, or all of a shorter file) before npyz parses it: at most
+/// [`MAX_NPY_HEADER_BYTES`] long, and brackets nested at most two deep (outside quoted
+/// strings). npyz parses the header's Python literal with a backtracking grammar
+/// (py_literal) that takes time exponential in the nesting depth: a 200-byte header of
+/// 30 unclosed `[` took hours (found by fuzzing, docs/fuzzing.md). Anything else — a
+/// short file, a bad magic — is left to npyz to report.
+pub fn check_npy_header(prefix: &[u8]) -> Result<(), String> {
+    if prefix.len() < 10 || !prefix.starts_with(b"\x93NUMPY") {
+        return Ok(());
+    }
+    let (len, start) = match prefix[6] {
+        1 => (u16::from_le_bytes([prefix[8], prefix[9]]) as usize, 10),
+        _ if prefix.len() >= 12 => (u32::from_le_bytes([prefix[8], prefix[9], prefix[10], prefix[11]]) as usize, 12),
+        _ => return Ok(()),
+    };
+    if len > MAX_NPY_HEADER_BYTES {
+        return Err(format!(
+            "the .npy header is {len} bytes, longer than the {MAX_NPY_HEADER_BYTES} numpy itself reads"
+        ));
+    }
+    let header = &prefix[start.min(prefix.len())..(start + len).min(prefix.len())];
+    let (mut depth, mut quote, mut escaped) = (0usize, None, false);
+    for &b in header {
+        match quote {
+            Some(q) => {
+                if escaped {
+                    escaped = false;
+                } else if b == b'\\' {
+                    escaped = true;
+                } else if b == q {
+                    quote = None;
+                }
+            }
+            None => match b {
+                b'\'' | b'"' => quote = Some(b),
+                b'(' | b'[' | b'{' => {
+                    depth += 1;
+                    if depth > MAX_NPY_HEADER_DEPTH {
+                        return Err(format!(
+                            "the .npy header nests brackets more than {MAX_NPY_HEADER_DEPTH} deep \
+                             (dynray reads plain arrays, not structured dtypes)"
+                        ));
+                    }
+                }
+                b')' | b']' | b'}' => depth = depth.saturating_sub(1),
+                _ => {}
+            },
+        }
+    }
+    Ok(())
 }
 
 /// A `rows × cols` array stored in Fortran (column-major) order, as numpy writes

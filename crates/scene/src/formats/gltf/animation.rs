@@ -44,6 +44,13 @@ pub(super) fn check_indices(json: &gltf::json::Root) -> Result<(), String> {
                     anim.samplers.len()
                 ));
             }
+            // gltf-json 1.4 does not validate a channel's target path, and the wrapper's
+            // `property()` unwraps it: an unknown path panicked (found by fuzzing).
+            if let gltf::json::validation::Checked::Invalid = ch.target.path {
+                return Err(format!(
+                    "{label} channel {c}: the target path is not one of translation, rotation, scale, weights"
+                ));
+            }
             if ch.target.node.value() >= nodes {
                 return Err(format!(
                     "{label} channel {c}: target node {} does not exist ({nodes} nodes)",
