@@ -3,9 +3,9 @@
 //! (crates/scene/src/texture/decode.rs), then sampled as a material would sample it.
 #![no_main]
 
+use dynray_geom::Vec2;
 use dynray_scene::texture::{ColorSpace, TextureSampler};
 use dynray_scene::Texture;
-use dynray_geom::Vec2;
 
 libfuzzer_sys::fuzz_target!(|data: &[u8]| {
     let Ok(t) = Texture::decode("texture", data, None, ColorSpace::Srgb) else { return };
