@@ -105,25 +105,10 @@ def _check_array(a, what):
         raise TypeError(f"{what}: rays must be float32 or float64 (little-endian), found {a.dtype}")
 
 
-def _worker_threads():
-    """The threads Dask gave this worker (its ``nthreads``), None outside a worker."""
-    try:
-        from distributed import get_worker
-
-        return get_worker().state.nthreads
-    except (ImportError, ValueError, AttributeError):
-        return None
-
-
 def _trace_chunk(mesh_path, accel, time, frame, occluded, threads, rays, start, stop):
     """One task: rows start..stop, from a .npy path (memory-mapped: only these rows are
     read) or from the chunk itself (an array scattered to the worker)."""
     s = _structure(mesh_path, accel, time, frame)
-    if threads is None:
-        # As many threads as Dask gave the worker: several worker processes on one
-        # machine, each on all its cores, would oversubscribe it (2 workers of 1 thread
-        # on 2 cores: 35 % slower with 2 threads per task, docs/python.md).
-        threads = _worker_threads()
     if isinstance(rays, str):
         where = rays
         chunk = np.load(rays, mmap_mode="r")[start:stop]
@@ -184,8 +169,10 @@ def trace_rays(
 
     ``accel`` is any ``--accel`` value; ``time`` (seconds) or ``frame`` pose an animated
     file as ``trace-rays --time/--frame`` does; ``threads`` is each task's thread count
-    (default: the worker's ``nthreads``, the cores Dask gave it). Each worker process loads and builds
-    once per (mesh file, accel, time, frame) and keeps the structure for later tasks.
+    (default: rayon's pool, every core of the worker's machine; docs/python.md compares
+    1 and 2 threads per task with 2 workers on 2 cores). Each worker process loads and
+    builds once per (mesh file, accel, time, frame) and keeps the structure for later
+    tasks.
     """
     import distributed  # noqa: F401  (lazy: dynray works without dask)
 

@@ -43,6 +43,7 @@ def main():
     ap.add_argument("--rays", type=int, default=10_000_000)
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--chunk-rows", type=int, default=1_000_000)
+    ap.add_argument("--repeat", type=int, default=3, help="runs of each timing; the median is printed")
     ap.add_argument("--mesh", default=str(here.parent / "shared" / "scenes" / "bunny" / "bun_zipper.ply"))
     args = ap.parse_args()
     from dask.distributed import Client, LocalCluster
@@ -61,10 +62,14 @@ def main():
     path = tmp / "rays.npy"
     np.save(path, rays)
 
-    def timed(label, f):
-        t0 = time.perf_counter()
-        out = f()
-        print(f"{label:<46} {time.perf_counter() - t0:8.2f} s")
+    def timed(label, f, repeat=args.repeat):
+        times = []
+        for _ in range(repeat):
+            t0 = time.perf_counter()
+            out = f()
+            times.append(time.perf_counter() - t0)
+        times.sort()
+        print(f"{label:<52} {times[len(times) // 2]:8.2f} s  (runs: {', '.join(f'{t:.2f}' for t in times)})")
         return out
 
     t0 = time.perf_counter()
@@ -72,19 +77,17 @@ def main():
     t1 = time.perf_counter()
     s = dynray.build(one.mesh, "bvh")
     t2 = time.perf_counter()
-    want = s.intersect(rays)
-    t3 = time.perf_counter()
-    occ = s.occluded(rays)
-    t4 = time.perf_counter()
-    print(f"one process: load {1e3 * (t1 - t0):.0f} ms, build {1e3 * (t2 - t1):.0f} ms, "
-          f"closest {t3 - t2:.2f} s, occluded {t4 - t3:.2f} s")
+    print(f"one process: load {1e3 * (t1 - t0):.0f} ms, build {1e3 * (t2 - t1):.0f} ms")
+    want = timed("one process, Structure.intersect", lambda: s.intersect(rays))
+    occ = timed("one process, Structure.occluded", lambda: s.occluded(rays))
+    timed("one process, from the .npy (np.load + intersect)", lambda: s.intersect(np.load(path)))
     timed("one process, trace_rays file job (.npy -> .npz)", lambda: dynray.trace_rays(args.mesh, path, tmp / "one.npz"))
 
     cluster = timed(f"LocalCluster start ({args.workers} worker processes)", lambda: LocalCluster(
-        n_workers=args.workers, threads_per_worker=1, processes=True, dashboard_address=None))
+        n_workers=args.workers, threads_per_worker=1, processes=True, dashboard_address=None), repeat=1)
     client = Client(cluster)
     run = dict(client=client, chunk_rows=args.chunk_rows)
-    got = timed("dask, .npy path, first call (load + build)", lambda: dd.trace_rays(args.mesh, path, **run))
+    got = timed("dask, .npy path, first call (load + build)", lambda: dd.trace_rays(args.mesh, path, **run), repeat=1)
     info = client.run(dd.cache_info)
     for w, i in sorted(info.items()):
         print(f"  worker {i['pid']}: {i['tasks']} tasks, load {1e3 * i['load_s']:.0f} ms, "
@@ -92,8 +95,7 @@ def main():
     got = timed("dask, .npy path, structures cached", lambda: dd.trace_rays(args.mesh, path, **run))
     same = all(np.array_equal(got[k].view(np.uint32) if got[k].dtype == np.float32 else got[k],
                               want[k].view(np.uint32) if want[k].dtype == np.float32 else want[k]) for k in want)
-    cores = os.cpu_count()
-    timed(f"dask, .npy path, threads={cores} per task", lambda: dd.trace_rays(args.mesh, path, threads=cores, **run))
+    timed("dask, .npy path, threads=1 per task", lambda: dd.trace_rays(args.mesh, path, threads=1, **run))
     got_occ = timed("dask, .npy path, occluded", lambda: dd.trace_rays(args.mesh, path, occluded=True, **run))
     timed("dask, in-memory array (scattered)", lambda: dd.trace_rays(args.mesh, rays, **run))
     timed("dask, .npy path, out_path (parts + merge)", lambda: dd.trace_rays(args.mesh, path, tmp / "d.npz", **run))
