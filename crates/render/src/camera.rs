@@ -1,6 +1,7 @@
 //! Primary rays of the scene camera: perspective (vertical field of view) and parallel
 //! (view height), through pixel centres, image y pointing down.
 
+use crate::RayCone;
 use dynray_geom::{Ray, Vec3};
 use dynray_scene::{Camera, Clip, Projection};
 
@@ -87,6 +88,20 @@ impl CameraRays {
     /// Unit view direction.
     pub fn forward(&self) -> Vec3 {
         self.forward
+    }
+
+    /// The footprint of one pixel's camera ray ([`RayCone`]): a perspective camera's
+    /// cone starts at a point and widens by a pixel's height at unit distance along the
+    /// view axis (`2 tan(fov/2) / height`, the pixel spread angle of Akenine-Möller et
+    /// al.); a parallel camera's keeps a pixel's height in world units. Pixels are
+    /// square, so the width matches.
+    pub fn pixel_cone(&self) -> RayCone {
+        let pixel = 2.0 * self.up.length() / self.height;
+        if self.parallel {
+            RayCone { width: pixel, spread: 0.0 }
+        } else {
+            RayCone { width: 0.0, spread: pixel }
+        }
     }
 
     /// The resolved vectors [`CameraRays::ray_at`] combines: what a port of it (the GPU
@@ -178,6 +193,20 @@ mod tests {
         assert!((top - Vec3::new(0.0, 1.0, -1.0).normalize()).length() < 1e-6, "{top}");
         let left = c.ray_at(0.0, 1.0).dir;
         assert!((left - Vec3::new(-2.0, 0.0, -1.0).normalize()).length() < 1e-6, "{left}");
+    }
+
+    #[test]
+    fn a_pixel_cone_is_one_pixel_wide_at_unit_distance() {
+        // 90° over 100 pixels: the window is 2 units high at distance 1.
+        let c = CameraRays::new(&cam(Projection::Perspective { fov_y_deg: 90.0 }), 200, 100).pixel_cone();
+        assert_eq!(c.width, 0.0);
+        assert!((c.spread - 0.02).abs() < 1e-7, "{c:?}");
+        // Neighbouring pixel centres on the axis are that far apart at distance 1.
+        let rays = CameraRays::new(&cam(Projection::Perspective { fov_y_deg: 90.0 }), 200, 100);
+        let (a, b) = (rays.ray_at(100.0, 50.0).dir, rays.ray_at(100.0, 51.0).dir);
+        assert!(((a / a.z - b / b.z).length() - c.spread).abs() < 1e-6);
+        let p = CameraRays::new(&cam(Projection::Parallel { height: 4.0 }), 8, 8).pixel_cone();
+        assert_eq!((p.width, p.spread), (0.5, 0.0));
     }
 
     #[test]

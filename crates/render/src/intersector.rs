@@ -6,7 +6,7 @@
 //! structure over bottom-level ones) are further geometries behind the same trait, so
 //! integrators have one shading path whatever they hit.
 
-use crate::{GeometryRef, SurfaceHit};
+use crate::{cone, GeometryRef, RayCone, SurfaceHit};
 use dynray_accel::Accel;
 use dynray_geom::{Aabb, Hit, Ray, Vec2, Vec3};
 use dynray_scene::{Color, Frame, Material};
@@ -33,6 +33,15 @@ pub trait Geometry: Sync {
     /// hit names no valid primitive. `geometry` is this geometry's index in the scene.
     fn surface<'a>(&'a self, ray: &Ray, hit: &Hit, geometry: u32) -> Option<SurfaceHit<'a>>;
 
+    /// [`Geometry::surface`] for a ray whose footprint is `cone` ([`RayCone`]): a
+    /// geometry with textures filters its lookup by the footprint at the hit (mipmaps,
+    /// docs/rendering.md "Texture filtering"). The default ignores the cone, right for
+    /// geometry without texture coordinates.
+    fn surface_cone<'a>(&'a self, ray: &Ray, hit: &Hit, geometry: u32, cone: &RayCone) -> Option<SurfaceHit<'a>> {
+        let _ = cone;
+        self.surface(ray, hit, geometry)
+    }
+
     /// Bounds of everything the geometry holds.
     fn bounds(&self) -> Aabb;
 }
@@ -57,8 +66,15 @@ impl<'a> SceneIntersector<'a> {
         Self::new(vec![Box::new(TriangleGeometry::new(frame, accel))])
     }
 
-    /// Closest surface hit along `ray`, or `None` when it escapes.
+    /// Closest surface hit along `ray`, or `None` when it escapes. Textures are looked
+    /// up at a point (the finest mip level); [`Self::intersect_cone`] filters them.
     pub fn intersect(&self, ray: &Ray) -> Option<SurfaceHit<'_>> {
+        self.intersect_cone(ray, &RayCone::POINT)
+    }
+
+    /// [`Self::intersect`] of a ray whose footprint is `cone`: the same hit, its texture
+    /// filtered over the footprint at the hit.
+    pub fn intersect_cone(&self, ray: &Ray, cone: &RayCone) -> Option<SurfaceHit<'_>> {
         let mut best: Option<(usize, Hit)> = None;
         let mut r = *ray;
         for (i, g) in self.geometries.iter().enumerate() {
@@ -71,7 +87,7 @@ impl<'a> SceneIntersector<'a> {
             }
         }
         let (i, hit) = best?;
-        self.geometries[i].surface(ray, &hit, i as u32)
+        self.geometries[i].surface_cone(ray, &hit, i as u32, cone)
     }
 
     /// [`Self::intersect`] of each of a batch of coherent rays (a tile's camera rays, in
@@ -79,6 +95,13 @@ impl<'a> SceneIntersector<'a> {
     /// its coherent path (packets, where its structure has them), later geometries over
     /// intervals shortened by the earlier ones' hits exactly as `intersect` shortens them.
     pub fn intersect_coherent(&self, rays: &[Ray]) -> Vec<Option<SurfaceHit<'_>>> {
+        self.intersect_coherent_cones(rays, &[])
+    }
+
+    /// [`Self::intersect_coherent`] with a footprint per ray: `cones[i]` is `rays[i]`'s
+    /// ([`Self::intersect_cone`]); rays past the end of `cones` (all of them for an
+    /// empty slice) look textures up at a point.
+    pub fn intersect_coherent_cones(&self, rays: &[Ray], cones: &[RayCone]) -> Vec<Option<SurfaceHit<'_>>> {
         let mut best: Vec<Option<(usize, Hit)>> = vec![None; rays.len()];
         let mut shortened = rays.to_vec();
         let mut hits = vec![Hit::MISS; rays.len()];
@@ -93,7 +116,11 @@ impl<'a> SceneIntersector<'a> {
         }
         best.into_iter()
             .zip(rays)
-            .map(|(b, ray)| b.and_then(|(i, hit)| self.geometries[i].surface(ray, &hit, i as u32)))
+            .enumerate()
+            .map(|(k, (b, ray))| {
+                let cone = cones.get(k).unwrap_or(&RayCone::POINT);
+                b.and_then(|(i, hit)| self.geometries[i].surface_cone(ray, &hit, i as u32, cone))
+            })
             .collect()
     }
 
@@ -137,6 +164,10 @@ impl Geometry for TriangleGeometry<'_> {
     }
 
     fn surface<'a>(&'a self, ray: &Ray, hit: &Hit, geometry: u32) -> Option<SurfaceHit<'a>> {
+        self.surface_cone(ray, hit, geometry, &RayCone::POINT)
+    }
+
+    fn surface_cone<'a>(&'a self, ray: &Ray, hit: &Hit, geometry: u32, cone: &RayCone) -> Option<SurfaceHit<'a>> {
         if !hit.is_hit() {
             return None;
         }
@@ -160,10 +191,11 @@ impl Geometry for TriangleGeometry<'_> {
             let s = n(i0)? * w + n(i1)? * u + n(i2)? * v;
             (s.is_finite() && s.length_squared() > 1e-12).then(|| s.normalize())
         });
-        let texcoords = mesh.uvs.as_ref().and_then(|t| {
+        let corners = mesh.uvs.as_ref().and_then(|t| {
             let c = |i: u32| t.get(i as usize).map(|c| Vec2::from_array(*c));
-            Some(c(i0)? * w + c(i1)? * u + c(i2)? * v)
+            Some([c(i0)?, c(i1)?, c(i2)?])
         });
+        let texcoords = corners.map(|[t0, t1, t2]| t0 * w + t1 * u + t2 * v);
         let material = self
             .frame
             .materials_of
@@ -171,8 +203,20 @@ impl Geometry for TriangleGeometry<'_> {
             .and_then(|&m| self.frame.materials.get(m as usize))
             .unwrap_or(&self.fallback);
         // Without texture coordinates there is nothing to look a texture up with (the
-        // barycentrics would stretch it over each triangle): untextured.
-        let texel = texcoords.map_or(Color::ONE, |uv| material.diffuse_texel(&self.frame.textures, uv));
+        // barycentrics would stretch it over each triangle): untextured. Only a textured
+        // hit pays for its footprint (the cone's width at the hit, in uv units).
+        let texel = match (texcoords, corners, &material.diffuse_texture) {
+            (Some(uv), Some(tc), Some(_)) => {
+                let uv_width = if *cone == RayCone::POINT {
+                    0.0
+                } else {
+                    let dist = hit.t * ray.dir.length();
+                    cone::uv_width([p0, p1, p2], tc, ray.dir, cone.width_at(dist))
+                };
+                material.diffuse_texel_filtered(&self.frame.textures, uv, uv_width)
+            }
+            _ => Color::ONE,
+        };
         Some(SurfaceHit {
             t: hit.t,
             p,

@@ -13,6 +13,7 @@
 mod actors;
 mod aov;
 mod camera;
+mod cone;
 mod cumulative;
 mod error;
 mod facing;
@@ -31,6 +32,7 @@ mod whitted;
 pub use actors::{actor_geometry, build_live_scene};
 pub use aov::{Aov, AovIntegrator};
 pub use camera::{CameraBasis, CameraRays};
+pub use cone::RayCone;
 pub use cumulative::{Cumulative, DEFAULT_BRANCH_DEPTH, MAX_LIVE_PATHS};
 pub use error::RenderError;
 pub use facing::{Facing, MIN_EXIT_COS};
@@ -51,3 +53,16 @@ pub use whitted::Whitted;
 /// Largest image edge, in pixels, the renderer accepts from a user (16384² pixels hold
 /// 4 GiB of film), so a typo cannot ask for terabytes.
 pub const MAX_IMAGE_EDGE: u32 = 1 << 14;
+
+/// Memory a render needs per pixel, for the budget check before one starts
+/// (`dynray_geom::budget`): the film (16 bytes), the film a pass or tile merges into
+/// it (16), and the encoded copy the output writer makes (8-bit sRGB, or the EXR's f32
+/// rows: up to 12), rounded up.
+pub const IMAGE_BYTES_PER_PIXEL: u64 = 48;
+
+/// Checks that a `width` × `height` render fits the memory budget; the error says what
+/// was asked and the limit.
+pub fn check_image_budget(width: u32, height: u32) -> Result<(), String> {
+    let bytes = width as u64 * height as u64 * IMAGE_BYTES_PER_PIXEL;
+    dynray_geom::budget::check(&format!("a {width} × {height} image"), bytes)
+}

@@ -21,6 +21,8 @@ pub struct Sampler {
     inc: u64,
     /// Sub-pixel position of this sample, in `[0, 1)²` within its pixel.
     offset: (f32, f32),
+    /// Samples of the pattern this one belongs to (`count` of [`Sampler::new`]).
+    count: u32,
 }
 
 /// PCG32's multiplier (Knuth's MMIX LCG constant, as in the PCG reference code).
@@ -32,7 +34,7 @@ impl Sampler {
     pub fn new(seed: u64, width: u32, x: u32, y: u32, sample: u32, count: u32) -> Self {
         let pixel = y as u64 * width as u64 + x as u64;
         let stream = mix64(seed ^ mix64(pixel.wrapping_add(0x9e37_79b9_7f4a_7c15)));
-        let mut s = Self { state: 0, inc: (stream << 1) | 1, offset: (0.5, 0.5) };
+        let mut s = Self { state: 0, inc: (stream << 1) | 1, offset: (0.5, 0.5), count: count.max(1) };
         // PCG's seeding sequence: step, add the initial state, step.
         s.next_u32();
         s.state = s.state.wrapping_add(mix64(sample as u64 ^ seed.rotate_left(32)));
@@ -49,6 +51,13 @@ impl Sampler {
     /// single sample per pixel).
     pub fn pixel_offset(&self) -> (f32, f32) {
         self.offset
+    }
+
+    /// How many samples of its pixel the pattern this sample belongs to has (at least
+    /// 1): how finely the pixel is divided among them, which sizes each sample's texture
+    /// footprint ([`crate::RayCone::for_samples`]).
+    pub fn pattern_count(&self) -> u32 {
+        self.count
     }
 
     /// The next 32 random bits.

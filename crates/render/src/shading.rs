@@ -34,7 +34,7 @@
 // `!(x > y)` is deliberate throughout: it is true for NaN, which must take the safe branch.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use crate::{Facing, RayCounts, SceneIntersector, Shadows, SurfaceHit};
+use crate::{CameraRays, Facing, RayCone, RayCounts, Sampler, SceneIntersector, Shadows, SurfaceHit};
 use dynray_geom::{Ray, Vec3};
 use dynray_scene::{Color, Frame, LightKind};
 
@@ -56,6 +56,8 @@ pub(crate) struct WhittedShading<'a> {
     pub max_level: u32,
     min_weight: f32,
     shadows: Shadows,
+    /// The footprint of a camera ray of one sample per pixel ([`CameraRays::pixel_cone`]).
+    pixel_cone: RayCone,
 }
 
 /// What shading needs about a hit: the surface and its normals as the incoming ray sees
@@ -92,19 +94,27 @@ impl<'a> WhittedShading<'a> {
             max_level: frame.settings.max_recursion_level.min(MAX_LEVEL_CAP),
             min_weight: frame.settings.min_weight,
             shadows: Shadows::new(frame),
+            pixel_cone: CameraRays::new(&frame.camera, frame.settings.width, frame.settings.height).pixel_cone(),
         }
     }
 
-    /// The closest hit of `ray`, oriented towards it; `None` on a miss.
-    pub fn intersect(&self, ray: &Ray) -> Option<Surface<'a>> {
-        self.scene.intersect(ray).map(|hit| Surface { facing: Facing::new(&hit, ray.dir), hit })
+    /// The footprint of the camera ray of the pixel sample `sampler` draws for: the
+    /// pixel's cone, shared among the samples of its pattern.
+    pub fn camera_cone(&self, sampler: &Sampler) -> RayCone {
+        self.pixel_cone.for_samples(sampler.pattern_count())
+    }
+
+    /// The closest hit of `ray` (whose footprint is `cone`: textures are filtered by
+    /// it), oriented towards it; `None` on a miss.
+    pub fn intersect(&self, ray: &Ray, cone: &RayCone) -> Option<Surface<'a>> {
+        self.scene.intersect_cone(ray, cone).map(|hit| Surface { facing: Facing::new(&hit, ray.dir), hit })
     }
 
     /// [`Self::intersect`] of each of a batch of coherent rays (camera rays in pixel
-    /// order), traced through the scene's coherent path: packets where the structure has
-    /// them, the same answers.
-    pub fn intersect_coherent(&self, rays: &[Ray]) -> Vec<Option<Surface<'a>>> {
-        let hits = self.scene.intersect_coherent(rays);
+    /// order, `cones[i]` the footprint of `rays[i]`), traced through the scene's coherent
+    /// path: packets where the structure has them, the same answers.
+    pub fn intersect_coherent(&self, rays: &[Ray], cones: &[RayCone]) -> Vec<Option<Surface<'a>>> {
+        let hits = self.scene.intersect_coherent_cones(rays, cones);
         hits.into_iter()
             .zip(rays)
             .map(|(h, ray)| h.map(|hit| Surface { facing: Facing::new(&hit, ray.dir), hit }))

@@ -11,12 +11,20 @@
 //! seeds: per pixel, `(a − b)² / 4` estimates the variance of their average, so a tile's
 //! variance is the sum over its pixels divided by the pixel count squared. Seeds are
 //! fixed, so the tests are deterministic; the spp are chosen so that a wrong factor of
-//! 1.5 % fails the mean test (the image mean's standard error is ≈ 0.1 %).
+//! 1.5 % fails the mean test (the image mean's standard error is ≈ 0.1 %). σ is at
+//! least [`FLOAT_FLOOR`] of the tile's value, for tiles without noise.
+//!
+//! The OBJ Cornell box (issue 48) is compared the same way with statistics of Mitsuba
+//! rendering that OBJ (`tools/reference/cornell_obj.py`, `tests/data/mitsuba_obj_cbox.json`),
+//! and by its share of fireflies ([`firefly_fraction`]).
 
 use dynray_accel::AccelSpec;
 use dynray_render::{render, Film, IntegratorKind, RenderOptions};
 use dynray_scene::{load_file, Color};
 use std::path::{Path, PathBuf};
+
+/// Relative rounding between the two renderers' colours, a floor on a tile's σ.
+const FLOAT_FLOOR: f64 = 1e-4;
 
 fn shared(rel: &str) -> PathBuf {
     let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared").join(rel);
@@ -57,11 +65,14 @@ fn reference(stats: &Path, key: &str) -> Reference {
     }
 }
 
-fn render_scene(xml: &Path, max_depth: Option<u32>, spp: u32, seed: u64) -> Film {
-    let scene = load_file(xml).unwrap();
+fn render_scene(file: &Path, max_depth: Option<u32>, size: Option<(u32, u32)>, spp: u32, seed: u64) -> Film {
+    let scene = load_file(file).unwrap();
     let mut frame = scene.frame(0.0);
     if let Some(d) = max_depth {
         frame.settings.max_recursion_level = d - 1;
+    }
+    if let Some((w, h)) = size {
+        (frame.settings.width, frame.settings.height) = (w, h);
     }
     let accel = "bvh".parse::<AccelSpec>().unwrap().build(&frame.mesh, None).unwrap();
     render(&frame, accel.as_ref(), &RenderOptions { spp, seed, integrator: IntegratorKind::Path, ..Default::default() })
@@ -75,8 +86,8 @@ struct Comparison {
     worst_tile: (usize, usize, usize),
 }
 
-fn compare(xml: &Path, max_depth: Option<u32>, reference: &Reference, spp: u32) -> Comparison {
-    let (a, b) = (render_scene(xml, max_depth, spp, 1), render_scene(xml, max_depth, spp, 2));
+/// dynray's renders `a` and `b` (independent seeds) against `reference`.
+fn compare(a: &Film, b: &Film, reference: &Reference) -> Comparison {
     let (w, h) = (a.width() as usize, a.height() as usize);
     assert_eq!(reference.tiles.len(), 8);
     let (tw, th) = (w / 8, h / 8);
@@ -109,7 +120,9 @@ fn compare(xml: &Path, max_depth: Option<u32>, reference: &Reference, spp: u32) 
                     Some(e) => e[ty][tx][k].powi(2),
                     None => reference.pixel_std[k].powi(2) / n,
                 };
-                let sigma = (var[k] / (n * n) + ref_err).sqrt();
+                // A noise-free tile (the background alone) still differs by the two
+                // renderers' rounding: Mitsuba turns rgb(0.05) into 0.0499995.
+                let sigma = (var[k] / (n * n) + ref_err).sqrt().max(want[k].abs() * FLOAT_FLOOR);
                 let dev = (got - want[k]).abs();
                 let in_sigmas = if sigma > 0.0 {
                     dev / sigma
@@ -128,7 +141,14 @@ fn compare(xml: &Path, max_depth: Option<u32>, reference: &Reference, spp: u32) 
 }
 
 fn check(name: &str, xml: &Path, max_depth: Option<u32>, reference: &Reference, spp: u32) {
-    let c = compare(xml, max_depth, reference, spp);
+    let (a, b) = (render_scene(xml, max_depth, None, spp, 1), render_scene(xml, max_depth, None, spp, 2));
+    assert_agrees(name, &a, &b, reference, 3.0);
+}
+
+/// The criteria of the module docs on two renders with independent seeds, every tile
+/// within `max_sigma`.
+fn assert_agrees(name: &str, a: &Film, b: &Film, reference: &Reference, max_sigma: f64) {
+    let c = compare(a, b, reference);
     for k in 0..3 {
         let rel = c.mean[k] / reference.mean[k] - 1.0;
         eprintln!(
@@ -147,7 +167,7 @@ fn check(name: &str, xml: &Path, max_depth: Option<u32>, reference: &Reference, 
     }
     eprintln!("{name}: worst tile {:?} at {:.2} σ", c.worst_tile, c.worst_tile_sigma);
     assert!(
-        c.worst_tile_sigma <= 3.0,
+        c.worst_tile_sigma <= max_sigma,
         "{name}: tile (row, column, channel) {:?} is {:.2} σ off Mitsuba's",
         c.worst_tile,
         c.worst_tile_sigma
@@ -191,4 +211,145 @@ fn cornell_box_six_segments_match_mitsuba() {
 fn glass_and_metal_match_mitsuba() {
     let xml = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/glass_metal.xml");
     check("glass_metal_d6", &xml, Some(6), &reference(&own_stats(), "glass_metal_d6"), 64);
+}
+
+/// The firefly measure that `tools/reference/cornell_obj.py` also applies to Mitsuba's
+/// images (its module docs): a pixel is a firefly when its luminance
+/// `Y = 0.2126 R + 0.7152 G + 0.0722 B` exceeds `FIREFLY_RATIO` × the median of the nine
+/// luminances of its 3×3 neighbourhood (itself included, the image's edge repeated
+/// outwards) by more than `FIREFLY_FLOOR`. The reference file records both constants, and
+/// the test checks that they are these.
+const FIREFLY_RATIO: f64 = 4.0;
+const FIREFLY_FLOOR: f64 = 0.05;
+/// The firefly fraction issue 48 reported for the point-light stand-in (0.65 %).
+const OLD_FIREFLIES: f64 = 0.0065;
+/// What "comparable to Mitsuba" allows beyond twice its fraction: 0.05 % is 10 pixels of
+/// a 160×120 image (Mitsuba's own count at 64 spp is about 5, so doubling alone would
+/// let Poisson noise of a few pixels decide).
+const FIREFLY_SLACK: f64 = 0.0005;
+
+/// Share of `pixels` (row-major, `width` wide) that are fireflies.
+fn firefly_fraction(pixels: &[Color], width: usize) -> f64 {
+    let height = pixels.len() / width;
+    let lum: Vec<f64> =
+        pixels.iter().map(|c| 0.2126 * c.x as f64 + 0.7152 * c.y as f64 + 0.0722 * c.z as f64).collect();
+    let at = |x: usize, y: usize, dx: usize, dy: usize| {
+        let x = (x + dx).saturating_sub(1).min(width - 1);
+        let y = (y + dy).saturating_sub(1).min(height - 1);
+        lum[y * width + x]
+    };
+    let mut flies = 0usize;
+    for y in 0..height {
+        for x in 0..width {
+            let mut around: [f64; 9] = std::array::from_fn(|k| at(x, y, k % 3, k / 3));
+            around.sort_by(f64::total_cmp);
+            if lum[y * width + x] > FIREFLY_RATIO * around[4] + FIREFLY_FLOOR {
+                flies += 1;
+            }
+        }
+    }
+    flies as f64 / pixels.len() as f64
+}
+
+/// The measure itself: one bright pixel on a flat image is one firefly, and so is one on
+/// the image's edge; a 2×2 cluster is four (specks of up to four pixels are what it
+/// finds); a bright band three pixels tall across the image (an edge between regions) is
+/// none, nor is the flat background; the threshold is `4 × median + 0.05`.
+#[test]
+fn firefly_fraction_counts_isolated_specks() {
+    let (w, h) = (10, 8);
+    let mut img = vec![Color::splat(0.2); w * h];
+    assert_eq!(firefly_fraction(&img, w), 0.0);
+    img[3 * w + 4] = Color::splat(5.0);
+    assert_eq!(firefly_fraction(&img, w), 1.0 / 80.0);
+    img[w - 1] = Color::new(0.0, 2.0, 0.0);
+    assert_eq!(firefly_fraction(&img, w), 2.0 / 80.0);
+    for (x, y) in [(4, 3), (5, 3), (4, 4), (5, 4)] {
+        img[y * w + x] = Color::splat(5.0);
+    }
+    assert_eq!(firefly_fraction(&img, w), 5.0 / 80.0);
+    let mut band = vec![Color::splat(0.2); w * h];
+    band[2 * w..5 * w].fill(Color::splat(5.0));
+    assert_eq!(firefly_fraction(&band, w), 0.0);
+    // Just above 4 × 0.2 + 0.05 counts, just below does not.
+    let mut img = vec![Color::splat(0.2); w * h];
+    img[3 * w + 3] = Color::splat(0.86);
+    img[5] = Color::splat(0.84);
+    assert_eq!(firefly_fraction(&img, w), 1.0 / 80.0);
+}
+
+/// Issue 48: the OBJ Cornell box's MTL `Ke` lamp was a point light (Whitted's stand-in)
+/// under the path tracer too, 1 mm below the lamp: hard shadows, and the ceiling beside
+/// it so bright that paths bouncing off it made fireflies (0.65 % of the pixels at 64
+/// spp, 640×480). Now the lamp is an area light, sampled with MIS, and the image is
+/// Mitsuba's: statistics of Mitsuba 3.9.1 rendering the same OBJ (one two-sided diffuse
+/// BSDF per MTL material, the `Ke` faces as area emitters, dynray's default environment
+/// and camera, max_depth 11) at 2 × 1024 spp, written by `tools/reference/cornell_obj.py`
+/// into `tests/data/mitsuba_obj_cbox.json`, which also holds the firefly fraction of
+/// three 64-spp Mitsuba renders.
+#[test]
+fn obj_cornell_box_lamp_is_an_area_light_like_mitsubas() {
+    let obj = shared("scenes/cornell-box/mcguire-obj/CornellBox-Original.obj");
+    let stats = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/mitsuba_obj_cbox.json");
+    let reference = reference(&stats, "obj_cbox");
+    let all: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
+    let fly = &all["obj_cbox"]["firefly"];
+    assert_eq!((fly["ratio"].as_f64(), fly["floor"].as_f64()), (Some(FIREFLY_RATIO), Some(FIREFLY_FLOOR)));
+    assert_eq!(fly["spp"].as_u64(), Some(64));
+    let per_seed: Vec<f64> = fly["fraction_per_seed"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+    let mitsuba = per_seed.iter().sum::<f64>() / per_seed.len() as f64;
+
+    // The camera is dynray's default view, chosen at 640×480; 160×120 keeps its aspect.
+    let size = Some((160, 120));
+    let (a, b) = (render_scene(&obj, None, size, 64, 1), render_scene(&obj, None, size, 64, 2));
+    let ours = [&a, &b].map(|f| firefly_fraction(&f.pixels(), f.width() as usize));
+    let mean = (ours[0] + ours[1]) / 2.0;
+    eprintln!(
+        "obj_cbox: firefly fraction at 64 spp {:.3} % ({:.3} %, {:.3} %), Mitsuba's {:.3} % ({per_seed:?})",
+        mean * 100.0,
+        ours[0] * 100.0,
+        ours[1] * 100.0,
+        mitsuba * 100.0
+    );
+    assert!(
+        mean < OLD_FIREFLIES / 4.0,
+        "{:.3} % fireflies: not well below the old {} %",
+        mean * 100.0,
+        OLD_FIREFLIES * 100.0
+    );
+    assert!(
+        mean <= 2.0 * mitsuba + FIREFLY_SLACK,
+        "{:.3} % fireflies against Mitsuba's {:.3} % at the same spp",
+        mean * 100.0,
+        mitsuba * 100.0
+    );
+    // 4 σ rather than 3: 192 tile channels at 64 spp, whose noise has a heavy tail (rare
+    // paths through the lamp's neighbourhood). With seed pairs (1, 2), (3, 4), (5, 6) and
+    // (7, 8) the worst tile was 2.86, 3.92, 2.61 and 3.14 σ off, a different tile each
+    // time, and 5–12 tile channels beyond 2 σ (a normal distribution expects 9): noise,
+    // not a difference between the renderers. The means agree within 0.06 %.
+    assert_agrees("obj_cbox", &a, &b, &reference, 4.0);
+}
+
+/// The same criterion on the scene as the path tracer saw it before issue 48 (the lamp's
+/// material emitting nothing, its point-light stand-in sampled as an ordinary light):
+/// it fails, so the test above can.
+#[test]
+fn obj_cornell_box_point_light_stand_in_had_fireflies() {
+    let obj = shared("scenes/cornell-box/mcguire-obj/CornellBox-Original.obj");
+    let mut scene = load_file(&obj).unwrap();
+    for m in &mut scene.materials {
+        m.emission = Color::ZERO;
+    }
+    for l in &mut scene.lights {
+        l.emitter_stand_in = false;
+    }
+    let mut frame = scene.frame(0.0);
+    (frame.settings.width, frame.settings.height) = (160, 120);
+    let accel = "bvh".parse::<AccelSpec>().unwrap().build(&frame.mesh, None).unwrap();
+    let options = RenderOptions { spp: 64, seed: 1, integrator: IntegratorKind::Path, ..Default::default() };
+    let film = render(&frame, accel.as_ref(), &options).0;
+    let old = firefly_fraction(&film.pixels(), 160);
+    eprintln!("obj_cbox with the point light: firefly fraction at 64 spp {:.3} %", old * 100.0);
+    assert!(old > OLD_FIREFLIES / 4.0, "{:.3} % fireflies would pass", old * 100.0);
 }

@@ -163,8 +163,11 @@ fn light_sampling_bsdf_sampling_and_mis_agree() {
 #[test]
 fn point_light_direct_lighting_is_exact() {
     let floor = cuboid(Vec3::new(0.0, -0.5, 0.0), Vec3::new(20.0, 1.0, 20.0), Vec3::ZERO);
-    let light =
-        Light { kind: LightKind::Point { position: Vec3::new(0.0, 2.0, 0.0), falloff: 2 }, color: Color::splat(3.0) };
+    let light = Light {
+        kind: LightKind::Point { position: Vec3::new(0.0, 2.0, 0.0), falloff: 2 },
+        color: Color::splat(3.0),
+        emitter_stand_in: false,
+    };
     let mut f = frame(
         vec![(floor, diffuse(0.5))],
         vec![light],

@@ -46,6 +46,7 @@ fn nan_materials_lights_and_settings_give_no_nan_pixels() {
     f.lights.push(dynray_scene::Light {
         kind: LightKind::Point { position: Vec3::Y * 3.0, falloff: 40 },
         color: Color::ONE,
+        emitter_stand_in: false,
     });
     f.settings.min_weight = f32::NAN;
     let (film, _) = render_brute(&f);

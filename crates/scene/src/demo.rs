@@ -93,10 +93,12 @@ pub fn demo_scene_with(sphere_detail: u32) -> Scene {
     s.lights.push(Light {
         kind: LightKind::Point { position: Vec3::new(7.0, 8.0, 3.0), falloff: 1 },
         color: Color::new(10.0, 9.6, 9.0),
+        emitter_stand_in: false,
     });
     s.lights.push(Light {
         kind: LightKind::Directional { direction: Vec3::new(0.6, -1.0, -0.4) },
         color: Color::new(0.25, 0.28, 0.35),
+        emitter_stand_in: false,
     });
     s.camera = Some(Camera {
         position: Vec3::new(0.0, 3.4, 9.5),

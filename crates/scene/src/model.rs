@@ -36,7 +36,8 @@ pub struct Material {
     /// Radiance the surface emits (W·m⁻²·sr⁻¹ per channel), from the side its geometric
     /// normal points to (the front of a counter-clockwise triangle) only, as Mitsuba's
     /// `area` emitter does. The path tracer samples emissive triangles as area lights;
-    /// the Whitted integrator ignores it (it lights with [`Light`]s only).
+    /// the Whitted integrator ignores it (it lights with [`Light`]s only, among them a
+    /// stand-in for the surface where the loader adds one: [`Light::emitter_stand_in`]).
     pub emission: Color,
     /// A physically based BSDF for the path tracer (`bsdf.rs`); `None` derives one from
     /// the Phong coefficients above (docs/rendering.md, "Path tracer").
@@ -173,6 +174,12 @@ pub struct Light {
     pub kind: LightKind,
     /// Colour (intensity).
     pub color: Color,
+    /// The light only stands in for an emissive surface ([`Material::emission`]) under the
+    /// integrators that light with [`Light`]s alone (Whitted and cumulative, on the CPU
+    /// and the GPU). The path tracer samples that surface itself as an area light and
+    /// skips this light, so the lamp is not counted twice. The OBJ loader's `Ke` lamps
+    /// are such lights (formats/obj.rs, "Emitters"); every other light has `false`.
+    pub emitter_stand_in: bool,
 }
 
 /// Camera projection.
@@ -335,6 +342,7 @@ impl Scene {
         self.lights.push(Light {
             kind: LightKind::Point { position: c + Vec3::new(0.6, 1.2, 1.0) * r, falloff: 0 },
             color: Color::ONE,
+            emitter_stand_in: false,
         });
     }
 

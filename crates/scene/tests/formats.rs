@@ -274,7 +274,12 @@ fn obj_emitters_become_point_lights_on_the_side_facing_the_scene() {
         assert!((position.x - x).abs() < 1e-6 && position.z.abs() < 1e-6, "{position}");
         assert!(position.y < 2.0 && position.y > 1.99, "below its lamp, towards the floor: {position}");
         assert_eq!(light.color, glam::Vec3::splat(2.0), "Ke x area 1");
+        assert!(light.emitter_stand_in, "the path tracer samples the lamp itself");
     }
+    // The lamps' material emits (the path tracer's area light), the floor's does not.
+    let f = s.frame(0.0);
+    let emission: Vec<f32> = f.materials_of.iter().map(|&m| f.materials[m as usize].emission.x).collect();
+    assert_eq!(emission, [0.0, 0.0, 2.0, 2.0, 2.0, 2.0]);
 }
 
 #[test]
@@ -358,8 +363,11 @@ fn cornell_box_obj_matches_a_hand_count() {
     assert!(position.y < 1.98 && position.y > 1.97, "below the lamp, inside the box: {position}");
     let area = 0.47 * 0.38;
     assert!((s.lights[0].color - glam::Vec3::new(17.0, 12.0, 4.0) * area).abs().max_element() < 1e-3);
+    assert!(s.lights[0].emitter_stand_in, "Whitted's stand-in: the path tracer samples the lamp itself");
     let light = s.materials.iter().find(|m| m.name == "light").unwrap();
     assert!(light.ambient.x > 1.0, "the lamp's material is ambient-bright");
+    assert_eq!(light.emission, glam::Vec3::new(17.0, 12.0, 4.0), "and emits Ke for the path tracer");
+    assert!(s.materials.iter().filter(|m| m.name != "light").all(|m| m.emission == glam::Vec3::ZERO));
     let left = s.materials.iter().find(|m| m.name == "leftWall").unwrap();
     assert_eq!(left.diffuse, glam::Vec3::new(0.63, 0.065, 0.05));
     assert_eq!(left.shine, 10.0);

@@ -44,6 +44,32 @@ fn obj_lamp_placed_through_a_scene_file_keeps_its_light_moved_with_it() {
     assert!(r.warnings.is_empty(), "{:?}", r.warnings);
 }
 
+/// The lamp's stand-in stays one through a scene file (the lamp still emits there, for the
+/// path tracer), unless a `material` modifier replaces the lamp's material: then nothing
+/// emits and the point light is an ordinary light, which the path tracer samples too.
+#[test]
+fn obj_lamp_stand_in_is_kept_while_the_lamp_emits() {
+    let Some(obj) = cornell() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let scn = format!(
+        "camera {{ perspective position <0, 1, 4> to <0, 1, 0> up <0, 1, 0> angle 40 }}\n\
+         mesh {{ file \"{}\" }}\n\
+         mesh {{ file \"{}\" material {{ color rgb(1, 1, 1) }} transform {{ translate <10, 0, 0> }} }}\n",
+        obj.display(),
+        obj.display()
+    );
+    let s = load_file(&write(dir.path(), "two.scn", scn.as_bytes())).unwrap();
+    let stand_in: Vec<bool> = s.lights.iter().map(|l| l.emitter_stand_in).collect();
+    assert_eq!(stand_in, [true, false]);
+    let f = s.frame(0.0);
+    let lamp_x: Vec<f32> = (0..f.mesh.triangle_count())
+        .filter(|&t| f.materials[f.materials_of[t] as usize].emission.max_element() > 0.0)
+        .map(|t| f.mesh.triangle(t).p0.x)
+        .collect();
+    assert_eq!(lamp_x.len(), 2, "one lamp (two triangles) emits: {lamp_x:?}");
+    assert!(lamp_x.iter().all(|&x| x < 5.0), "the first box's, not the repainted one's: {lamp_x:?}");
+}
+
 #[test]
 fn a_bare_mesh_placed_in_a_scene_file_brings_no_default_light() {
     let dir = tempfile::tempdir().unwrap();

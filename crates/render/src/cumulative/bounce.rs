@@ -32,7 +32,7 @@ impl Bounce<'_, '_> {
             let (ray, product, weight, owner, id) =
                 (&live.ray[i], live.product[i], live.weight[i], live.owner[i], live.id[i]);
             let o = owner as usize;
-            let Some(s) = sh.intersect(ray) else {
+            let Some(s) = sh.intersect(ray, &live.cone[i]) else {
                 sums[o] += no_nan(product * sh.background());
                 continue;
             };
@@ -43,10 +43,12 @@ impl Bounce<'_, '_> {
                 continue;
             }
             let scatter = sh.scatter(d, &s);
+            // Children go on from the footprint the cone reached at the hit.
+            let cone = live.cone[i].advance(s.hit.t * ray.dir.length());
             let traced = |c: Option<Child>| c.and_then(|c| Some((c, sh.child_weight(weight, &c)?)));
             let mut go = |c: &Child, w: f32, p: Color, id: u32, counts: &mut RayCounts| {
                 counts.secondary += 1;
-                next.push(sh.child_ray(&s, c.dir, eps), p, w, owner, id);
+                next.push(sh.child_ray(&s, c.dir, eps), cone, p, w, owner, id);
             };
             match (traced(scatter.reflect), traced(scatter.refract)) {
                 (Some((r, wr)), Some((t, wt))) if !self.expand => {

@@ -1,16 +1,20 @@
 //! The live paths of a wavefront, as flat arrays: one entry per path, the layout a GPU
 //! kernel reads and appends to (structure of arrays, no pointers).
 
+use crate::RayCone;
 use dynray_geom::Ray;
 use dynray_scene::Color;
 
-/// A list of live paths: `ray[i]`, `product[i]`, `weight[i]`, `owner[i]` and `id[i]` are
-/// path `i`.
+/// A list of live paths: `ray[i]`, `cone[i]`, `product[i]`, `weight[i]`, `owner[i]` and
+/// `id[i]` are path `i`.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Paths {
     /// The ray the path traces next: origin and direction (and its interval, which only
     /// camera rays may narrow).
     pub ray: Vec<Ray>,
+    /// The ray's footprint (camera rays: their pixel's; children go on from the width it
+    /// reached at their parent's hit), which filters the textures it sees.
+    pub cone: Vec<RayCone>,
     /// `P`: the product of the coefficients along the path (divided by the choice
     /// probabilities past the branch depth), what `I(x)` at its next hit is scaled by.
     pub product: Vec<Color>,
@@ -32,6 +36,7 @@ impl Paths {
     pub fn with_capacity(n: usize) -> Self {
         Self {
             ray: Vec::with_capacity(n),
+            cone: Vec::with_capacity(n),
             product: Vec::with_capacity(n),
             weight: Vec::with_capacity(n),
             owner: Vec::with_capacity(n),
@@ -39,12 +44,14 @@ impl Paths {
         }
     }
 
-    /// The camera rays as paths: `P = 1`, weight 1, each its own sample.
-    pub fn camera(&mut self, rays: &[Ray]) {
+    /// The camera rays as paths (footprints `cones[i]`): `P = 1`, weight 1, each its own
+    /// sample.
+    pub fn camera(&mut self, rays: &[Ray], cones: &[RayCone]) {
         self.clear();
         assert!(rays.len() <= u32::MAX as usize, "{} camera rays in one batch; owners are u32", rays.len());
-        for (i, r) in rays.iter().enumerate() {
-            self.push(*r, Color::ONE, 1.0, i as u32, 1);
+        assert_eq!(rays.len(), cones.len(), "one cone per camera ray");
+        for (i, (r, c)) in rays.iter().zip(cones).enumerate() {
+            self.push(*r, *c, Color::ONE, 1.0, i as u32, 1);
         }
     }
 
@@ -61,6 +68,7 @@ impl Paths {
     /// Forgets every path, keeping the allocations.
     pub fn clear(&mut self) {
         self.ray.clear();
+        self.cone.clear();
         self.product.clear();
         self.weight.clear();
         self.owner.clear();
@@ -68,8 +76,9 @@ impl Paths {
     }
 
     /// Appends a path.
-    pub fn push(&mut self, ray: Ray, product: Color, weight: f32, owner: u32, id: u32) {
+    pub fn push(&mut self, ray: Ray, cone: RayCone, product: Color, weight: f32, owner: u32, id: u32) {
         self.ray.push(ray);
+        self.cone.push(cone);
         self.product.push(product);
         self.weight.push(weight);
         self.owner.push(owner);

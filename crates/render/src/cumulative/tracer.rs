@@ -4,7 +4,7 @@
 use super::bounce::Bounce;
 use super::paths::Paths;
 use crate::shading::WhittedShading;
-use crate::{Integrator, RayCounts, Sampler, SceneIntersector};
+use crate::{Integrator, RayCone, RayCounts, Sampler, SceneIntersector};
 use dynray_geom::Ray;
 use dynray_scene::{Color, Frame};
 
@@ -14,7 +14,7 @@ pub const DEFAULT_BRANCH_DEPTH: u32 = 2;
 
 /// Most live paths one wavefront holds: a batch whose paths could outgrow it (every
 /// expanded bounce can double them) is traced in slices of fewer camera rays, which
-/// changes no result (samples are independent). 2^16 paths are about 3.5 MB per thread.
+/// changes no result (samples are independent). 2^16 paths are about 4 MB per thread.
 pub const MAX_LIVE_PATHS: usize = 1 << 16;
 
 /// Seed 004's cumulative tracer over one frame (Whitted's shading, no recursion).
@@ -54,8 +54,9 @@ impl<'a> Cumulative<'a> {
         sums.fill(Color::ZERO);
         // One draw per sample keys all its choices (the GPU uploads the same numbers).
         let keys: Vec<u32> = samplers.iter_mut().map(Sampler::next_u32).collect();
+        let cones: Vec<RayCone> = samplers.iter().map(|s| self.shading.camera_cone(s)).collect();
         let (live, next) = lists;
-        live.camera(rays);
+        live.camera(rays, &cones);
         let mut level = 1;
         while !live.is_empty() {
             next.clear();

@@ -9,7 +9,10 @@
 //!   A light's colour is the radiance a white Lambertian surface facing it reflects at
 //!   unit distance (Whitted's convention), so its radiant intensity (or, for a
 //!   directional light, its irradiance) is `π · colour`; attenuation follows the light's
-//!   `falloff` exponent (2 for physical lights).
+//!   `falloff` exponent (2 for physical lights). A light marked
+//!   [`Light::emitter_stand_in`] is skipped: it is the Whitted integrators' point-light
+//!   approximation of an emissive surface (an OBJ `Ke` lamp), and that surface is
+//!   already an area light here.
 //! - **The environment**: a constant radiance (the frame's background) from every
 //!   direction, sampled uniformly over the sphere, when it is not black.
 //!
@@ -19,6 +22,7 @@
 //! BSDF-sampled ray hit, for multiple importance sampling.
 //!
 //! [`Material::emission`]: dynray_scene::Material::emission
+//! [`Light::emitter_stand_in`]: dynray_scene::Light::emitter_stand_in
 
 use super::local::{uniform_sphere, uniform_triangle};
 use crate::{Sampler, SurfaceHit};
@@ -98,7 +102,8 @@ impl<'a> Lights<'a> {
                 groups.push(g);
             }
         }
-        for l in &frame.lights {
+        // A stand-in's surface is among the area lights above; both would count it twice.
+        for l in frame.lights.iter().filter(|l| !l.emitter_stand_in) {
             let c = l.color * PI;
             if !(c.max_element() > 0.0) || !c.is_finite() {
                 continue;

@@ -25,6 +25,10 @@
 //!
 //! Every random number comes from the pixel sample's [`Sampler`], so images do not
 //! depend on threads or tiles.
+//!
+//! Textures are filtered by the path's [`RayCone`]: the camera ray's pixel footprint,
+//! continued from the width it reached at each hit with the camera's spread, through
+//! specular and rough bounces alike (docs/rendering.md, "Texture filtering").
 
 // `!(x > 0.0)` is deliberate here and in the submodules: it is true for NaN, which must
 // take the rejecting branch (hostile files, degenerate geometry).
@@ -38,7 +42,7 @@ mod microfacet;
 mod mis;
 mod tables;
 
-use crate::{Integrator, RayCounts, Sampler, SceneIntersector};
+use crate::{CameraRays, Integrator, RayCone, RayCounts, Sampler, SceneIntersector};
 use bsdf::Bsdf;
 use dynray_geom::{Ray, Vec3};
 use dynray_scene::{Color, Frame};
@@ -82,6 +86,8 @@ pub struct PathTracer<'a> {
     max_depth: u32,
     env_ior: f32,
     strategy: Strategy,
+    /// The footprint of a camera ray of one sample per pixel.
+    pixel_cone: RayCone,
 }
 
 impl<'a> PathTracer<'a> {
@@ -95,6 +101,7 @@ impl<'a> PathTracer<'a> {
             max_depth: frame.settings.max_recursion_level.saturating_add(1).min(MAX_PATH_DEPTH),
             env_ior: if ior.is_finite() && ior > 0.0 { ior } else { 1.0 },
             strategy: Strategy::Mis,
+            pixel_cone: CameraRays::new(&frame.camera, frame.settings.width, frame.settings.height).pixel_cone(),
         }
     }
 
@@ -113,6 +120,7 @@ impl<'a> PathTracer<'a> {
         let mut throughput = Color::ONE;
         let mut eta = 1.0f32;
         let mut ray = *camera_ray;
+        let mut cone = self.pixel_cone.for_samples(sampler.pattern_count());
         // The previous vertex: its point, the BSDF sample's density, whether a delta.
         let mut prev: Option<(Vec3, f32, bool)> = None;
         let mis_bsdf = |prev: Option<(Vec3, f32, bool)>, light_pdf: &dyn Fn(Vec3) -> f32| -> f32 {
@@ -124,7 +132,7 @@ impl<'a> PathTracer<'a> {
         };
         let mut depth = 0u32;
         loop {
-            let Some(hit) = self.scene.intersect(&ray) else {
+            let Some(hit) = self.scene.intersect_cone(&ray, &cone) else {
                 let env = self.lights.environment();
                 if env.max_element() > 0.0 {
                     let w = mis_bsdf(prev, &|_| self.lights.pdf_environment());
@@ -184,6 +192,7 @@ impl<'a> PathTracer<'a> {
             throughput *= s.weight;
             eta *= s.eta;
             prev = Some((hit.p, s.pdf, s.delta));
+            cone = cone.advance(hit.t * ray.dir.length());
             ray = Ray::new(offset(hit.p, hit.ng, wi), wi);
             counts.secondary += 1;
             depth += 1;
@@ -255,6 +264,7 @@ mod tests {
         s.lights.push(dynray_scene::Light {
             kind: dynray_scene::LightKind::Point { position: Vec3::new(1.0, 1.0, 0.0), falloff: 2 },
             color: Color::ONE,
+            emitter_stand_in: false,
         });
         s.frame(0.0)
     }
@@ -304,5 +314,21 @@ mod tests {
                 assert!(ls.delta, "sample {i}: the lamps face down, away from a point above them");
             }
         }
+    }
+
+    /// A light that stands in for an emissive surface (an OBJ `Ke` lamp's point light,
+    /// [`dynray_scene::Light::emitter_stand_in`]) is Whitted's: the path tracer samples
+    /// the surface's triangles, not the stand-in, here and in the GPU's emitter table.
+    #[test]
+    fn emitter_stand_ins_are_left_to_whitted() {
+        let mut frame = lamp_frame();
+        assert_eq!(Lights::new(&frame).emitters.len(), 3, "two lamps and the point light");
+        frame.lights[0].emitter_stand_in = true;
+        let lights = Lights::new(&frame);
+        assert_eq!(lights.emitters.len(), 2);
+        assert!(lights.emitters.iter().all(|e| matches!(e, lights::Emitter::Area(_))));
+        let table = EmitterTable::new(&frame);
+        assert_eq!(table.emitters.len(), 2);
+        assert!(table.emitters.iter().all(|e| matches!(e, EmitterDesc::Area { .. })));
     }
 }

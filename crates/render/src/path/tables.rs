@@ -197,6 +197,7 @@ mod tests {
         s.lights.push(dynray_scene::Light {
             kind: LightKind::Point { position: Vec3::new(1.0, 1.0, 0.0), falloff: 2 },
             color: Color::ONE,
+            emitter_stand_in: false,
         });
         let frame = s.frame(0.0);
         let t = EmitterTable::new(&frame);

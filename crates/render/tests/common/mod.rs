@@ -54,12 +54,12 @@ pub fn parallel(position: Vec3, look_at: Vec3, height: f32) -> Camera {
 
 /// A point light without attenuation.
 pub fn point(position: Vec3, color: Color) -> Light {
-    Light { kind: LightKind::Point { position, falloff: 0 }, color }
+    Light { kind: LightKind::Point { position, falloff: 0 }, color, emitter_stand_in: false }
 }
 
 /// A directional light travelling along `direction`.
 pub fn directional(direction: Vec3, color: Color) -> Light {
-    Light { kind: LightKind::Directional { direction }, color }
+    Light { kind: LightKind::Directional { direction }, color, emitter_stand_in: false }
 }
 
 /// Environment with the given background and ambient light, medium ior 1.

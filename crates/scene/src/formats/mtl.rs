@@ -86,7 +86,8 @@ impl MtlMaterial {
             transparency: Color::splat((1.0 - opacity).clamp(0.0, 1.0)),
             ior: self.ni.unwrap_or(1.0),
             diffuse_texture: None,
-            emission: Color::ZERO,
+            // The path tracer's area light (obj.rs, "Emitters").
+            emission: self.emission().unwrap_or(Color::ZERO),
             bsdf: None,
         }
     }

@@ -34,7 +34,7 @@
 //! | `illum` 3, 5, 7 | `specular` (mirror) = `Ks` | black for every other `illum` |
 //! | `d` / `Tr` | `transparency` = `1 - d`, or `Tr` when there is no `d` | 0 |
 //! | `Ni` | `ior` | 1 |
-//! | `Ke` | `ambient` = `Ke / environment ambient`, plus a point light (see Emitters) | no emission |
+//! | `Ke` | `emission` = `Ke` (an area light for the path tracer), `ambient` = `Ke / environment ambient` and a stand-in point light for Whitted (see Emitters) | no emission |
 //! | `map_Kd` | `diffuse_texture`: multiplies `diffuse` and `ambient` (see Textures) | untextured |
 //!
 //! A colour may be one number (grey) or three; `spectral`/`xyz` colours are ignored with a
@@ -55,17 +55,32 @@
 //! faces without `vt` is rendered untextured there, with a warning.
 //!
 //! # Emitters
-//! A material with a non-black `Ke` is an area light. dynray has no area lights in the
-//! Whitted model, so each actor using it becomes a point light at the actor's
-//! area-weighted centroid, nudged off the surface along its mean normal (flipped to face
-//! the scene's centre) by 0.1 % of the scene's diagonal (so shadow rays towards it do not
-//! stop on the emitter itself), with
-//! colour `Ke × area` and inverse-square falloff: the radiant intensity of a small
-//! Lambertian emitter of radiance `Ke` seen along its normal. (The Cornell box's
-//! `Ke 17 12 4` over its 0.47 × 0.38 lamp gives about 3.0, 2.1, 0.7.) The emitter's material gets
-//! `ambient = Ke / environment ambient`, so the lamp itself looks as bright as it emits.
+//! A material with a non-black `Ke` is an area light: its [`Material::emission`] is `Ke`,
+//! the radiance it emits from the side its faces' winding normal points to (one-sided,
+//! like glTF's and Mitsuba's emitters). The path tracer samples those triangles as area
+//! lights, by next-event estimation with MIS (crates/render/src/path/lights.rs), so an
+//! `.obj` lamp casts soft shadows and the image converges to what Mitsuba 3 renders from
+//! the same file with `area` emitters (`tools/reference/cornell_obj.py`,
+//! crates/render/tests/mitsuba_reference.rs). A lamp wound facing away from the scene
+//! therefore lights the ceiling behind it, as in Mitsuba.
+//!
+//! The Whitted and cumulative integrators have no area lights, so each actor using such a
+//! material also gets a point light standing in for it, marked
+//! [`Light::emitter_stand_in`]: those integrators light with it, the path tracer skips it
+//! (it already has the surface; counting both would light the scene twice). The stand-in
+//! sits at the actor's area-weighted centroid, nudged off the surface along its mean
+//! normal (flipped to face the scene's centre) by 0.1 % of the scene's diagonal (so
+//! shadow rays towards it do not stop on the emitter itself), with colour `Ke × area` and
+//! inverse-square falloff: the radiant intensity of a small Lambertian emitter of
+//! radiance `Ke` seen along its normal. (The Cornell box's `Ke 17 12 4` over its
+//! 0.47 × 0.38 lamp gives about 3.0, 2.1, 0.7.) The emitter's material gets
+//! `ambient = Ke / environment ambient`, so the lamp itself looks as bright as it emits
+//! under Whitted's ambient term (the path tracer shows its emission instead).
 //! Files without emitters get the default light when loaded on their own
 //! ([`crate::load_file_report`]); through a scene file's `mesh { file }` they bring none.
+//! There, a `material` modifier that replaces the file's materials takes the emission
+//! away, and the stand-in becomes an ordinary point light for every integrator
+//! (scn/objects.rs).
 
 use super::mtl::{self, MtlMaterial};
 use crate::report::{LoadReport, Warning};
@@ -169,7 +184,8 @@ pub fn load(path: &Path) -> Result<LoadReport, LoadError> {
     Ok(LoadReport { scene, warnings })
 }
 
-/// The point light standing in for an emissive actor (module docs, "Emitters").
+/// The point light standing in for an emissive actor under the integrators without area
+/// lights; the path tracer skips it (module docs, "Emitters").
 fn emitter_light(mesh: &TriangleMesh, ke: Color, nudge: f32, scene_center: Vec3) -> Light {
     let (mut area, mut centroid, mut normal) = (0.0f32, Vec3::ZERO, Vec3::ZERO);
     for t in mesh.triangles() {
@@ -193,7 +209,7 @@ fn emitter_light(mesh: &TriangleMesh, ke: Color, nudge: f32, scene_center: Vec3)
         let mean = mesh.positions.iter().map(|p| Vec3::from_array(*p)).sum::<Vec3>() / mesh.vertex_count() as f32;
         (mean, ke)
     };
-    Light { kind: LightKind::Point { position, falloff: 2 }, color }
+    Light { kind: LightKind::Point { position, falloff: 2 }, color, emitter_stand_in: true }
 }
 
 /// Reads and parses one MTL file; a missing file is a warning, a malformed one an error.

@@ -81,7 +81,7 @@ impl Parser<'_> {
                     .label("expected `position` for a point light or `direction` for a directional one"))
             }
         };
-        Ok((Light { kind, color }, anim))
+        Ok((Light { kind, color, emitter_stand_in: false }, anim))
     }
 
     /// `camera { parallel|perspective position V to V up V [angle R] [animate { … }] }` or

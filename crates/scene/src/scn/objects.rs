@@ -132,10 +132,18 @@ impl Object {
         Ok(())
     }
 
-    /// Gives every part `m`, replacing what the parts had.
+    /// Gives every part `m`, replacing what the parts had. Lights that stood in for a
+    /// mesh file's emissive surfaces (an OBJ's `Ke` lamp) lose their surface's emission
+    /// with it, so they become ordinary lights, which the path tracer then samples too
+    /// (the lamp keeps lighting the scene as it did under Whitted).
     fn set_material(&mut self, m: &Rc<Material>) {
         for p in &mut self.parts {
             p.material = Some(m.clone());
+        }
+        if m.emission.max_element() <= 0.0 {
+            for l in &mut self.lights {
+                l.emitter_stand_in = false;
+            }
         }
     }
 
@@ -163,7 +171,7 @@ fn transform_light(light: &Light, m: &DMat4) -> Light {
             LightKind::Spot { position: point(position), direction: dir(direction), cos_inner, cos_outer, falloff }
         }
     };
-    Light { kind, color: light.color }
+    Light { kind, ..*light }
 }
 
 impl Parser<'_> {

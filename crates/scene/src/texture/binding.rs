@@ -1,6 +1,6 @@
 //! How a material uses a texture ([`TextureRef`]: which one, sampled how, through which
-//! uv transform), and the load-time rule that a textured material only lands on
-//! geometry with texture coordinates.
+//! uv transform, and the mip level a lookup's footprint asks for), and the load-time rule
+//! that a textured material only lands on geometry with texture coordinates.
 
 use super::{Texture, TextureSampler};
 use crate::{Color, Material, Scene, Warning};
@@ -35,6 +35,28 @@ impl TextureRef {
         let t = textures.get(self.texture as usize)?;
         Some(t.sample(self.transform.transform_point2(uv), &self.sampler))
     }
+
+    /// The level of detail of a lookup of `texture` through this reference whose
+    /// footprint is `uv_width` wide in the surface's uv units (before the transform):
+    /// `log₂` of its width in texels of level 0, `uv_width · √|det T| · √(w · h)` (`T` the
+    /// transform's linear part; the square roots are the geometric means of an
+    /// anisotropic scale and of a non-square image, as in Akenine-Möller et al.,
+    /// "Texture Level of Detail Strategies for Real-Time Ray Tracing", 2019). Level 0 is
+    /// a footprint of one texel or less; `-∞` for a zero footprint, NaN for a NaN one
+    /// (both read level 0).
+    pub fn lod(&self, texture: &Texture, uv_width: f32) -> f32 {
+        let scale = self.transform.matrix2.determinant().abs().sqrt();
+        let texels = ((texture.width() as f64 * texture.height() as f64).sqrt()) as f32;
+        (uv_width * scale * texels).log2()
+    }
+
+    /// [`TextureRef::sample`] for a lookup whose footprint is `uv_width` wide in uv
+    /// units ([`TextureRef::lod`]): trilinear (or nearest-level) over the mipmaps; a
+    /// footprint of at most a texel (0 included) is [`TextureRef::sample`] exactly.
+    pub fn sample_footprint(&self, textures: &[Arc<Texture>], uv: Vec2, uv_width: f32) -> Option<Color> {
+        let t = textures.get(self.texture as usize)?;
+        Some(t.sample_lod(self.transform.transform_point2(uv), &self.sampler, self.lod(t, uv_width)))
+    }
 }
 
 impl Material {
@@ -43,6 +65,14 @@ impl Material {
     /// one place shading reads a texture, so every integrator and AOV agree.
     pub fn diffuse_texel(&self, textures: &[Arc<Texture>], uv: Vec2) -> Color {
         self.diffuse_texture.as_ref().and_then(|t| t.sample(textures, uv)).unwrap_or(Color::ONE)
+    }
+
+    /// [`Material::diffuse_texel`] for a lookup whose footprint is `uv_width` wide in the
+    /// surface's uv units (a ray cone's width at the hit, through the triangle's uv
+    /// scale): filtered over the mipmaps ([`TextureRef::sample_footprint`]). A zero
+    /// width is `diffuse_texel` exactly.
+    pub fn diffuse_texel_filtered(&self, textures: &[Arc<Texture>], uv: Vec2, uv_width: f32) -> Color {
+        self.diffuse_texture.as_ref().and_then(|t| t.sample_footprint(textures, uv, uv_width)).unwrap_or(Color::ONE)
     }
 }
 
@@ -106,6 +136,34 @@ mod tests {
         let m = Material { diffuse_texture: Some(TextureRef::new(7)), ..Material::default() };
         assert_eq!(m.diffuse_texel(&tex, Vec2::ZERO), Color::ONE, "a bad index is untextured");
         assert_eq!(Material::default().diffuse_texel(&tex, Vec2::ZERO), Color::ONE);
+    }
+
+    #[test]
+    fn lod_is_log2_of_the_footprint_in_texels() {
+        let t = Texture::from_linear("t", 512, 512, vec![Color::ONE; 512 * 512]).unwrap();
+        let r = TextureRef::new(0);
+        assert_eq!(r.lod(&t, 1.0 / 512.0), 0.0, "one texel wide");
+        assert_eq!(r.lod(&t, 4.0 / 512.0), 2.0);
+        assert_eq!(r.lod(&t, 0.5 / 512.0), -1.0, "magnified");
+        assert_eq!(r.lod(&t, 0.0), f32::NEG_INFINITY);
+        // Non-square: the geometric mean of the sides (128 × 512 → 256).
+        let tall = Texture::from_linear("t", 128, 512, vec![Color::ONE; 128 * 512]).unwrap();
+        assert_eq!(r.lod(&tall, 1.0 / 256.0), 0.0);
+        // A transform that tiles the texture 4 × 4 makes every uv unit 4 images wide;
+        // an anisotropic 2 × 8 scale counts as 4 (√16).
+        let tiled = TextureRef { transform: Affine2::from_scale(Vec2::splat(4.0)), ..r };
+        assert_eq!(tiled.lod(&t, 1.0 / 512.0), 2.0);
+        let stretched = TextureRef { transform: Affine2::from_scale(Vec2::new(2.0, 8.0)), ..r };
+        assert_eq!(stretched.lod(&t, 1.0 / 512.0), 2.0);
+        // Through the material: width 0 is the point lookup, a wide footprint the mean.
+        let checker: Vec<Color> = (0..64).map(|i| Color::splat(((i % 8 + i / 8) % 2) as f32)).collect();
+        let tex = vec![Arc::new(Texture::from_linear("c", 8, 8, checker).unwrap())];
+        let m = Material { diffuse_texture: Some(r), ..Material::default() };
+        let uv = Vec2::new(1.5 / 8.0, 1.0 - 0.5 / 8.0);
+        assert_eq!(m.diffuse_texel_filtered(&tex, uv, 0.0), m.diffuse_texel(&tex, uv));
+        assert_eq!(m.diffuse_texel(&tex, uv), Color::ONE);
+        assert!((m.diffuse_texel_filtered(&tex, uv, 2.0 / 8.0) - Color::splat(0.5)).abs().max_element() < 1e-6);
+        assert_eq!(Material::default().diffuse_texel_filtered(&tex, uv, 1.0), Color::ONE);
     }
 
     #[test]

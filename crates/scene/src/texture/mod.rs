@@ -1,8 +1,9 @@
-//! Image textures: a decoded image as linear-RGB `f32` texels ([`Texture`]), how it is
-//! sampled ([`TextureSampler`]: wrap modes and filtering, `sample.rs`), and how a
-//! material uses one ([`TextureRef`]: which texture, sampler, uv transform,
-//! `binding.rs`). Decoding (PNG, JPEG, PPM/PNM through the `image` crate, sRGB to
-//! linear) is `decode.rs`.
+//! Image textures: a decoded image as linear-RGB `f32` texels with its mipmaps
+//! ([`Texture`], the pyramid in `mip.rs`), how it is sampled ([`TextureSampler`]: wrap
+//! modes, bilinear or trilinear filtering by a footprint, `sample.rs`), and how a
+//! material uses one ([`TextureRef`]: which texture, sampler, uv transform, the level of
+//! detail of a footprint, `binding.rs`). Decoding (PNG, JPEG, PPM/PNM through the `image`
+//! crate, sRGB to linear) is `decode.rs`.
 //!
 //! Textures live once in [`crate::Scene::textures`] as `Arc<Texture>` and materials name
 //! them by index, so [`crate::Scene::frame_into`] (which copies materials every frame)
@@ -20,6 +21,7 @@
 
 mod binding;
 mod decode;
+mod mip;
 mod sample;
 
 pub(crate) use binding::untexture_where_no_uvs;
@@ -30,7 +32,8 @@ pub use sample::{Filter, TextureSampler, Wrap};
 use crate::Color;
 
 /// A decoded image: `width × height` linear-RGB texels, row by row from the top of the
-/// image (as image files store them). Alpha is not kept.
+/// image (as image files store them), and its mipmaps (`mip.rs`), built once when the
+/// texture is made. Alpha is not kept.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Texture {
     /// Where it came from, for messages: a file path, or `file.glb image 0`.
@@ -38,19 +41,60 @@ pub struct Texture {
     width: u32,
     height: u32,
     texels: Vec<Color>,
+    /// Levels 1, 2, … down to 1 × 1 (empty for a 1 × 1 image, or after
+    /// [`Texture::without_mipmaps`]).
+    mips: Vec<mip::MipLevel>,
 }
 
 impl Texture {
-    /// A texture of linear-RGB `texels`, row-major from the top row; `None` when the
-    /// size is zero, above [`MAX_TEXELS`], or does not match `texels.len()`.
+    /// A texture of linear-RGB `texels`, row-major from the top row, with its mipmaps;
+    /// `None` when the size is zero, above [`MAX_TEXELS`], or does not match
+    /// `texels.len()`.
     pub fn from_linear(name: impl Into<String>, width: u32, height: u32, texels: Vec<Color>) -> Option<Self> {
         let n = (width as u64) * (height as u64);
-        (n > 0 && n <= MAX_TEXELS && n == texels.len() as u64).then(|| Self {
-            name: name.into(),
-            width,
-            height,
-            texels,
-        })
+        if !(n > 0 && n <= MAX_TEXELS && n == texels.len() as u64) {
+            return None;
+        }
+        let mips = mip::pyramid(width, height, &texels);
+        Some(Self { name: name.into(), width, height, texels, mips })
+    }
+
+    /// The same image without mipmaps: every lookup reads level 0, whatever its
+    /// footprint (the unfiltered image, for comparisons; a data texture whose texels
+    /// must not be averaged).
+    pub fn without_mipmaps(mut self) -> Self {
+        self.mips = Vec::new();
+        self
+    }
+
+    /// Number of mip levels, level 0 (the image) included: `1 + ⌈log₂ max(width,
+    /// height)⌉`, or 1 without mipmaps.
+    pub fn levels(&self) -> usize {
+        1 + self.mips.len()
+    }
+
+    /// Width and height of mip level `level` (0: the image); `None` past the last.
+    pub fn level_size(&self, level: usize) -> Option<(u32, u32)> {
+        match level {
+            0 => Some((self.width, self.height)),
+            k => self.mips.get(k - 1).map(|l| (l.width, l.height)),
+        }
+    }
+
+    /// Texel `(x, y)` of mip level `level` (0: [`Texture::texel`]), `y` from the top
+    /// row; black out of range.
+    pub fn level_texel(&self, level: usize, x: u32, y: u32) -> Color {
+        let (w, h, texels) = match level {
+            0 => (self.width, self.height, &self.texels),
+            k => match self.mips.get(k - 1) {
+                Some(l) => (l.width, l.height, &l.texels),
+                None => return Color::ZERO,
+            },
+        };
+        if x >= w || y >= h {
+            return Color::ZERO;
+        }
+        texels[y as usize * w as usize + x as usize]
     }
 
     /// Width in texels.
@@ -72,8 +116,9 @@ impl Texture {
         self.texels[y as usize * self.width as usize + x as usize]
     }
 
-    /// Bytes held by the texels.
+    /// Bytes held by the texels, mipmaps included (about 4/3 of the image's).
     pub fn memory_bytes(&self) -> usize {
-        self.texels.len() * std::mem::size_of::<Color>()
+        let texels = self.texels.len() + self.mips.iter().map(|l| l.texels.len()).sum::<usize>();
+        texels * std::mem::size_of::<Color>()
     }
 }

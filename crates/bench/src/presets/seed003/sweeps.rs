@@ -36,7 +36,11 @@ pub fn ring_of_lights(frame: &Frame, n: usize) -> Vec<Light> {
         .map(|i| {
             let a = TAU * i as f32 / n as f32;
             let position = c + Vec3::new(a.cos() * size, size, a.sin() * size);
-            Light { kind: LightKind::Point { position, falloff: 0 }, color: Vec3::splat(1.0 / n as f32) }
+            Light {
+                kind: LightKind::Point { position, falloff: 0 },
+                color: Vec3::splat(1.0 / n as f32),
+                emitter_stand_in: false,
+            }
         })
         .collect()
 }

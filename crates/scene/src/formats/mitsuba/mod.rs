@@ -258,6 +258,7 @@ impl<'a> Builder<'a> {
                 self.scene.lights.push(Light {
                     kind: LightKind::Point { position: position.as_vec3(), falloff: 2 },
                     color: (intensity / std::f64::consts::PI).as_vec3(),
+                    emitter_stand_in: false,
                 });
             }
             "constant" => {
