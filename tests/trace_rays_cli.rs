@@ -366,5 +366,5 @@ fn gaps_overlaps_and_mixed_parts_are_refused_naming_the_files() {
     fails_with(merge(&[head.clone(), mid.clone(), tail.clone()], &alias), &["the output is one of the parts"]);
     assert_eq!(std::fs::read(tail).unwrap(), before);
     fails_with(merge(&[head.clone(), mid.clone(), tail.clone()], &d.join("merged.npy")), &["name the output *.npz"]);
-    assert!(std::fs::read_dir(d).unwrap().all(|e| !e.unwrap().file_name().to_string_lossy().starts_with(".tmp")));
+    assert!(std::fs::read_dir(d).unwrap().all(|e| !e.unwrap().file_name().to_string_lossy().ends_with(".tmp")));
 }

@@ -144,22 +144,11 @@ impl Adf {
         out
     }
 
-    /// Writes the file atomically (a temporary file beside it, renamed when complete).
+    /// Writes the file atomically ([`dynray_geom::file::atomic`]: a temporary file beside
+    /// it, renamed when complete, never over an input).
     pub fn save(&self, path: &Path) -> Result<(), FileError> {
         let io = |source| FileError::Io { path: path.to_path_buf(), source };
-        let dir = match path.parent() {
-            Some(d) if !d.as_os_str().is_empty() => d,
-            _ => Path::new("."),
-        };
-        let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-        let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
-        let result = std::fs::File::create(&tmp)
-            .and_then(|mut f| f.write_all(&self.to_bytes()).and_then(|_| f.sync_all()))
-            .and_then(|_| std::fs::rename(&tmp, path));
-        if result.is_err() {
-            let _ = std::fs::remove_file(&tmp);
-        }
-        result.map_err(io)
+        dynray_geom::file::write_atomic(path, |f| f.write_all(&self.to_bytes()).map_err(io), io)
     }
 
     /// Reads and checks a file (module docs).

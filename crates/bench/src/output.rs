@@ -5,7 +5,7 @@ use anyhow::{Context, Result};
 use std::path::Path;
 
 /// Atomic, readable writes: the engine's (shared with every front end).
-pub use dynray_engine::output::{readable_temp_builder, write_atomic};
+pub use dynray_engine::output::write_atomic;
 
 /// Encodes an RGB8 buffer as PNG and writes it atomically.
 pub fn write_png(path: &Path, rgb: &[u8], width: u32, height: u32) -> Result<()> {

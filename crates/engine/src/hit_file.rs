@@ -330,25 +330,16 @@ pub(crate) fn write_array<T: npyz::AutoSerialize + npyz::Serialize + Copy>(
     w.finish()
 }
 
-/// Writes the archive under a temporary name in the target directory and renames it into
-/// place, so a failure never leaves a partial file behind.
+/// Writes the archive atomically ([`crate::output`]): a failure never leaves a partial
+/// file behind, and an input is never replaced.
 pub(crate) fn write_npz(path: &Path, fill: impl FnOnce(&mut Npz) -> std::io::Result<()>) -> Result<()> {
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
-    // Ordinary permissions, not tempfile's private 0600: the hits are for other tools.
-    let tmp = crate::output::readable_temp_builder()
-        .tempfile_in(dir)
-        .with_context(|| format!("{}: cannot write here", path.display()))?;
-    let file = tmp.reopen().with_context(|| format!("{}: cannot write", path.display()))?;
-    let mut npz = npyz::npz::NpzWriter::new(BufWriter::new(file));
-    fill(&mut npz).with_context(|| format!("{}: write failed", path.display()))?;
-    let mut inner = npz.zip_writer().finish().with_context(|| format!("{}: write failed", path.display()))?;
-    inner.flush().with_context(|| format!("{}: write failed", path.display()))?;
-    drop(inner);
-    tmp.persist(path).with_context(|| format!("{}: cannot move the finished file into place", path.display()))?;
-    Ok(())
+    crate::output::write_with(path, |file| {
+        let mut npz = npyz::npz::NpzWriter::new(BufWriter::new(file.try_clone()?));
+        fill(&mut npz)?;
+        let mut inner = npz.zip_writer().finish()?;
+        inner.flush()?;
+        Ok(())
+    })
 }
 
 /// The `rows` array of a slice archive, after its hits: `[start, end, total]` as int64.
@@ -381,6 +372,20 @@ pub fn write_occluded(path: &Path, occluded: &[bool], span: Option<RowSpan>) -> 
         write_array(npz, "occluded", occluded)?;
         write_span(npz, span)
     })
+}
+
+/// A version-1 `.npy` file of `header` (its Python literal, padded as numpy pads it)
+/// and raw `data`, however wrong the header: for tests of hostile files.
+#[cfg(test)]
+pub(crate) fn npy_with_header(header: &str, data: &[u8]) -> Vec<u8> {
+    let mut h = header.to_string();
+    h.push_str(&" ".repeat((64 - (10 + h.len() + 1) % 64) % 64));
+    h.push('\n');
+    let mut out = b"\x93NUMPY\x01\x00".to_vec();
+    out.extend_from_slice(&(h.len() as u16).to_le_bytes());
+    out.extend_from_slice(h.as_bytes());
+    out.extend_from_slice(data);
+    out
 }
 
 #[cfg(test)]
@@ -451,16 +456,7 @@ mod tests {
     /// in the nesting); refused before npyz sees it now. A plain file still reads.
     #[test]
     fn a_nested_ray_file_header_is_refused_at_once() {
-        let npy = |header: &str, data: &[u8]| {
-            let mut h = header.to_string();
-            h.push_str(&" ".repeat((64 - (10 + h.len() + 1) % 64) % 64));
-            h.push('\n');
-            let mut out = b"\x93NUMPY\x01\x00".to_vec();
-            out.extend_from_slice(&(h.len() as u16).to_le_bytes());
-            out.extend_from_slice(h.as_bytes());
-            out.extend_from_slice(data);
-            out
-        };
+        let npy = npy_with_header;
         let dir = tempfile::tempdir().unwrap();
         let nested = dir.path().join("nested.npy");
         let header = format!("{{'descr': '<f4', {} 'fortran_order': False, 'shape': (1, 8), }}", "[".repeat(30));

@@ -13,7 +13,7 @@
 use crate::hit_file::{check_npz_output, stored, write_npz, HitField, Npz, RowSpan};
 use anyhow::{bail, Context, Result};
 use npyz::WriterBuilder;
-use std::io::BufReader;
+use std::io::{BufReader, Read};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -91,8 +91,17 @@ fn read_part(path: &Path) -> Result<Part> {
     for i in 0..zip.len() {
         let entry = zip.by_index(i).with_context(|| format!("{}: unreadable archive entry {i}", path.display()))?;
         let name = npyz::npz::array_name_from_file_name(entry.name())
-            .with_context(|| format!("{}: entry {:?} is not a .npy array", path.display(), entry.name()))?;
-        names.push(name.to_string());
+            .with_context(|| format!("{}: entry {:?} is not a .npy array", path.display(), entry.name()))?
+            .to_string();
+        // npyz's header parser is exponential in bracket nesting: look before it does.
+        let mut prefix = Vec::new();
+        entry
+            .take(dynray_scene::formats::npz::NPY_PREFIX_BYTES as u64)
+            .read_to_end(&mut prefix)
+            .with_context(|| format!("{}: unreadable array `{name}`", path.display()))?;
+        dynray_scene::formats::npz::check_npy_header(&prefix)
+            .map_err(|m| anyhow::anyhow!("{}: array `{name}`: {m}", path.display()))?;
+        names.push(name);
     }
     let Some(npy) = npz.by_name(RowSpan::ARRAY).with_context(|| format!("{}: unreadable `rows`", path.display()))?
     else {
@@ -306,6 +315,28 @@ mod tests {
         let mut parts = parts;
         check_coverage(&mut parts).map_err(|e| e.to_string())?;
         Ok(parts.iter().map(|p| p.path.display().to_string()).collect())
+    }
+
+    /// A part whose `rows` header nests brackets 30 deep would hang npyz's parser (it is
+    /// exponential in the nesting; docs/fuzzing.md): refused at once, naming the part.
+    #[test]
+    fn a_nested_array_header_in_a_part_is_refused_at_once() {
+        use std::io::Write;
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("part.npz");
+        let header = format!("{{'descr': '<i8', {} 'fortran_order': False, 'shape': (3,), }}", "[".repeat(30));
+        let mut zip = zip::ZipWriter::new(std::fs::File::create(&path).unwrap());
+        zip.start_file(
+            "rows.npy",
+            zip::write::FileOptions::default().compression_method(zip::CompressionMethod::Stored),
+        )
+        .unwrap();
+        zip.write_all(&crate::hit_file::npy_with_header(&header, &[0; 24])).unwrap();
+        zip.finish().unwrap();
+        let start = std::time::Instant::now();
+        let e = read_part(&path).err().unwrap().to_string();
+        assert!(start.elapsed().as_secs() < 5, "took {:?}", start.elapsed());
+        assert!(e.contains("part.npz") && e.contains("`rows`") && e.contains("nests brackets"), "{e}");
     }
 
     #[test]

@@ -1,34 +1,24 @@
-//! Writing output files the way every front end must: under a temporary name beside the
-//! destination, then renamed, so an interrupted or failed write never leaves half a file
-//! (DESIGN.md, "Errors and bad input"); with ordinary permissions (0644 less the umask),
-//! not tempfile's private 0600, since outputs are for other tools and people.
+//! Writing output files the way every front end must: whole or not at all, never over an
+//! input, no temporary left behind (DESIGN.md, "Errors and bad input";
+//! [`dynray_geom::file::atomic`] does it), with errors that name the file.
 
-use anyhow::{Context, Result};
+use anyhow::Result;
+use std::fs::File;
 use std::io::Write;
 use std::path::Path;
 
-/// Writes `bytes` to `path` atomically (temporary sibling, fsync, rename).
+/// Writes `bytes` to `path` atomically.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    let dir = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    let mut tmp = readable_temp_builder()
-        .tempfile_in(dir)
-        .with_context(|| format!("{}: cannot create a temporary file in {}", path.display(), dir.display()))?;
-    tmp.write_all(bytes).with_context(|| format!("{}: write failed", path.display()))?;
-    tmp.as_file().sync_all().with_context(|| format!("{}: sync failed", path.display()))?;
-    tmp.persist(path).map_err(|e| e.error).with_context(|| format!("{}: cannot rename into place", path.display()))?;
-    Ok(())
+    write_with(path, |f| Ok(f.write_all(bytes)?))
 }
 
-/// A temporary-file builder whose files end up with ordinary permissions (0644 less the
-/// umask) instead of tempfile's private 0600.
-pub fn readable_temp_builder() -> tempfile::Builder<'static, 'static> {
-    let mut b = tempfile::Builder::new();
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::PermissionsExt;
-        b.permissions(std::fs::Permissions::from_mode(0o644));
-    }
-    b
+/// Writes `path` atomically through `fill`; errors name the file.
+pub fn write_with(path: &Path, fill: impl FnOnce(&mut File) -> Result<()>) -> Result<()> {
+    dynray_geom::file::write_atomic(
+        path,
+        |f| fill(f).map_err(|e| e.context(format!("{}: write failed", path.display()))),
+        |e| anyhow::Error::new(e).context(format!("{}: cannot write", path.display())),
+    )
 }
 
 #[cfg(test)]
@@ -48,5 +38,18 @@ mod tests {
             assert_ne!(mode & 0o044, 0, "group or others may read: {mode:o}");
         }
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1, "no temporary file left");
+    }
+
+    #[test]
+    fn a_failed_fill_names_the_file_and_leaves_nothing() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("out.gif");
+        let e = write_with(&p, |f| {
+            f.write_all(b"GIF8")?;
+            anyhow::bail!("encoder failed")
+        })
+        .unwrap_err();
+        assert_eq!(format!("{e:#}"), format!("{}: write failed: encoder failed", p.display()));
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
     }
 }

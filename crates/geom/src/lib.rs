@@ -10,6 +10,7 @@
 #![forbid(unsafe_code)]
 
 mod aabb;
+pub mod budget;
 pub mod file;
 mod hit;
 mod mesh;

@@ -1,13 +1,13 @@
 //! Writing a film to disk: PNG and BMP as 8-bit sRGB, EXR as linear `f32`, chosen by the
-//! file extension. The image is written to a temporary file in the target directory and
-//! renamed over the target, so a failure never leaves a partial output file.
+//! file extension. The image is written atomically (a temporary file in the target
+//! directory renamed over the target, never over an input), so a failure never leaves a
+//! partial output file.
 
 use crate::{Aov, Film, RenderError};
 use exr::prelude::{Image, SpecificChannels, Vec2, WritableImage};
 use std::fs::File;
 use std::io::{BufWriter, Write};
-use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::path::Path;
 
 /// The image formats the renderer writes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -70,46 +70,27 @@ pub fn write_aov(film: &Film, aov: Aov, path: &Path) -> Result<(), RenderError> 
     })
 }
 
-/// Checks the film, writes it through `fill` into a temporary sibling of `path`, syncs
-/// it and renames it over `path`; on any error the target is left as it was.
+/// Checks the film and writes it through `fill` atomically
+/// ([`dynray_geom::file::atomic`]: a temporary sibling, synced and renamed over `path`,
+/// never over an input); on any error the target is left as it was.
 fn write_atomically(
     film: &Film,
     path: &Path,
-    fill: impl FnOnce(&mut BufWriter<File>) -> Result<(), RenderError>,
+    fill: impl FnOnce(&mut BufWriter<&mut File>) -> Result<(), RenderError>,
 ) -> Result<(), RenderError> {
     if film.width() == 0 || film.height() == 0 {
         return Err(RenderError::EmptyImage { path: path.into(), width: film.width(), height: film.height() });
     }
-    let tmp = temporary_name(path);
-    let result = write_to(path, &tmp, fill)
-        .and_then(|()| std::fs::rename(&tmp, path).map_err(|source| RenderError::Io { path: path.into(), source }));
-    if result.is_err() {
-        // Best effort: the temporary may not exist (creation failed); nothing to report.
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result
-}
-
-/// A hidden sibling of `path`, unique within this process, so that concurrent writes of
-/// different images (tests, animation frames) never share a temporary.
-fn temporary_name(path: &Path) -> PathBuf {
-    static COUNTER: AtomicU64 = AtomicU64::new(0);
-    let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-    let name = path.file_name().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
-    path.with_file_name(format!(".{name}.{}.{n}.tmp", std::process::id()))
-}
-
-fn write_to(
-    path: &Path,
-    tmp: &Path,
-    fill: impl FnOnce(&mut BufWriter<File>) -> Result<(), RenderError>,
-) -> Result<(), RenderError> {
     let io = |source| RenderError::Io { path: path.into(), source };
-    let mut w = BufWriter::new(File::create(tmp).map_err(io)?);
-    fill(&mut w)?;
-    // Flush and sync before the rename so the renamed file is complete.
-    w.flush().map_err(io)?;
-    w.get_ref().sync_all().map_err(io)
+    dynray_geom::file::write_atomic(
+        path,
+        |file| {
+            let mut w = BufWriter::new(file);
+            fill(&mut w)?;
+            w.flush().map_err(io)
+        },
+        io,
+    )
 }
 
 /// The exr crate's error as ours: I/O failures keep their cause.
@@ -121,7 +102,7 @@ fn exr_error(path: &Path, e: exr::error::Error) -> RenderError {
 }
 
 /// Encodes the film's colour in `format` into `w`.
-fn encode(film: &Film, format: OutputFormat, path: &Path, w: &mut BufWriter<File>) -> Result<(), RenderError> {
+fn encode(film: &Film, format: OutputFormat, path: &Path, w: &mut BufWriter<&mut File>) -> Result<(), RenderError> {
     let io = |source| RenderError::Io { path: path.into(), source };
     let encode = |message: String| RenderError::Encode { path: path.into(), message };
     match format {

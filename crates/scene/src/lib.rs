@@ -15,6 +15,7 @@ mod frame;
 mod load;
 mod model;
 mod physics;
+pub mod reference;
 mod report;
 pub mod scn;
 mod shading;

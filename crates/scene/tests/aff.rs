@@ -321,6 +321,19 @@ fn missing_includes_name_the_including_line() {
     assert!(e.starts_with(&at(d.path(), "top.aff", 3)) && e.contains("nowhere.aff"), "{e}");
 }
 
+/// Issue 43: a view whose `from` is its `at` (or whose `up` lies along the view) rendered
+/// silently; it names the `v` block now.
+#[test]
+fn views_that_look_nowhere_are_errors() {
+    let tri = "p 3 0 0 0 1 0 0 0 1 0\n";
+    let same = format!("{tri}v\nfrom 1 2 3\nat 1 2 3\nup 0 1 0\nangle 45\n");
+    let (e, d) = fails(&[("v.aff", same.as_str())]);
+    assert!(e.starts_with(&at(d.path(), "v.aff", 3)) && e.contains("the camera looks nowhere"), "{e}");
+    let along = format!("{tri}v\nfrom 0 0 5\nat 0 0 0\nup 0 0 1\nangle 45\n");
+    let (e, _d) = fails(&[("u.aff", along.as_str())]);
+    assert!(e.contains("parallel to the view direction"), "{e}");
+}
+
 #[test]
 fn include_cycles_are_errors() {
     let (e, d) = fails(&[("a.aff", "i 0 b.aff\n"), ("b.aff", "p 3 0 0 0 1 0 0 0 1 0\ni 0 a.aff\n")]);

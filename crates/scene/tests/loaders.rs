@@ -348,11 +348,11 @@ fn gltf_missing_or_short_buffer_file_is_named() {
     let json = std::fs::read_to_string(&p).unwrap().replace("tri.bin", "%FF.bin");
     let msg = error_of(&write(dir.path(), "ff.gltf", json.as_bytes()));
     assert!(msg.contains("does not decode to UTF-8"), "{msg}");
-    // A device would be read forever.
+    // A device would be read forever; outside the model's folder, it is not even looked at.
     if Path::new("/dev/zero").exists() {
         let json = std::fs::read_to_string(&p).unwrap().replace("tri.bin", "file:///dev/zero");
         let msg = error_of(&write(dir.path(), "zero.gltf", json.as_bytes()));
-        assert!(msg.contains("/dev/zero is not a regular file"), "{msg}");
+        assert!(msg.contains("/dev/zero is outside"), "{msg}");
     }
 }
 

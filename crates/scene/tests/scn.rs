@@ -553,6 +553,15 @@ fn named_transform() {
 }
 
 #[test]
+fn numbers_past_f32_say_so() {
+    // Issue 43: this was "sphere radius is 1e39, but a radius must be positive".
+    let (_, _, msg, _) = fail("sphere { center <0,0,0> radius 1e39 }");
+    assert!(msg.contains("sphere radius is 1e39, beyond a 32-bit float's range"), "{msg}");
+    let (_, _, msg, _) = fail("sphere { center <0,0,0> radius -1 }");
+    assert!(msg.contains("but a radius must be positive"), "{msg}");
+}
+
+#[test]
 fn transform_errors() {
     let (_, _, msg, _) = fail(&format!("define t {TRI} object {{ t transform {{ shear <1,1,1> }} }}"));
     assert!(msg.contains("unknown parameter `shear` in `transform`"), "{msg}");

@@ -2,7 +2,7 @@
 //! included unless `--no-overlay`), with its real duration, written as a looping GIF when
 //! the window closes (under a temporary name, then renamed).
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use image::codecs::gif::{GifEncoder, Repeat};
 use image::{Delay, Frame, RgbaImage};
 use std::path::Path;
@@ -52,26 +52,16 @@ impl Recording {
 
     /// Writes the frames as a looping GIF to `path`.
     pub fn write(&self, path: &Path) -> Result<()> {
-        let dir = match path.parent() {
-            Some(p) if !p.as_os_str().is_empty() => p,
-            _ => Path::new("."),
-        };
-        let mut tmp = dynray_engine::output::readable_temp_builder()
-            .tempfile_in(dir)
-            .with_context(|| format!("{}: cannot write", path.display()))?;
-        {
-            let mut encoder = GifEncoder::new_with_speed(tmp.as_file_mut(), 10);
-            encoder.set_repeat(Repeat::Infinite).with_context(|| format!("{}: cannot write", path.display()))?;
+        dynray_engine::output::write_with(path, |file| {
+            let mut encoder = GifEncoder::new_with_speed(std::io::BufWriter::new(file), 10);
+            encoder.set_repeat(Repeat::Infinite)?;
             for (image, ms) in &self.frames {
                 // GIF delays are hundredths of a second; 20 ms is the shortest viewers honour.
                 let delay = Delay::from_numer_denom_ms(ms.round().clamp(20.0, 10_000.0) as u32, 1);
-                encoder
-                    .encode_frame(Frame::from_parts(image.clone(), 0, 0, delay))
-                    .with_context(|| format!("{}: cannot write", path.display()))?;
+                encoder.encode_frame(Frame::from_parts(image.clone(), 0, 0, delay))?;
             }
-        }
-        tmp.persist(path).map_err(|e| e.error).with_context(|| format!("{}: cannot write", path.display()))?;
-        Ok(())
+            Ok(())
+        })
     }
 }
 

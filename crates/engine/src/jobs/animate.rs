@@ -125,9 +125,15 @@ pub enum AnimateEvent<'a> {
 }
 
 impl AnimateJob {
-    /// Checks what needs no scene.
+    /// Checks what needs no scene: the shard, the frame range, the backend's flags and
+    /// what the GPU can trace and integrate.
     pub fn check(&self) -> Result<()> {
         self.backend.check()?;
+        if self.backend.is_gpu() {
+            self.accel.binary_bvh()?;
+            let probe = RenderOptions { integrator: self.integrator, ..Default::default() };
+            crate::tracer::gpu_integrator(&probe, self.gpu_strategy)?;
+        }
         if let Some(s) = self.shard {
             if s.count == 0 || s.index >= s.count {
                 bail!("--shard {s}: K must be below N");
@@ -384,16 +390,12 @@ fn open_timings(path: &Path, resume: bool) -> Result<BufWriter<File>> {
 }
 
 /// The frame's world-space triangles as OBJ, in the frame's stable order (vertex `i` of
-/// the frame is OBJ vertex `i + 1`), written under a temporary name and renamed. Floats
+/// the frame is OBJ vertex `i + 1`), written atomically ([`crate::output`]). Floats
 /// are printed in Rust's shortest round-trip form, so reading them back gives the same
 /// bits.
 pub fn write_obj(frame: &Frame, path: &Path) -> Result<()> {
-    let dir = path.parent().unwrap_or(Path::new("."));
-    let mut tmp = crate::output::readable_temp_builder()
-        .tempfile_in(dir)
-        .with_context(|| format!("{}: cannot create", dir.display()))?;
-    {
-        let mut w = BufWriter::new(tmp.as_file_mut());
+    crate::output::write_with(path, |file| {
+        let mut w = BufWriter::new(file);
         writeln!(w, "# dynray animate: frame at t = {} s, {} triangles", frame.time, frame.mesh.triangle_count())?;
         for p in &frame.mesh.positions {
             writeln!(w, "v {} {} {}", p[0], p[1], p[2])?;
@@ -402,7 +404,6 @@ pub fn write_obj(frame: &Frame, path: &Path) -> Result<()> {
             writeln!(w, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1)?;
         }
         w.flush()?;
-    }
-    tmp.persist(path).map_err(|e| e.error).with_context(|| format!("{}: cannot write", path.display()))?;
-    Ok(())
+        Ok(())
+    })
 }

@@ -85,7 +85,8 @@ fn timings_files(out: &Path) -> Result<Vec<PathBuf>> {
 
 /// The rows of one timings file, keyed by frame number.
 fn read_rows(path: &Path, rows: &mut BTreeMap<u32, String>) -> Result<()> {
-    let text = dynray_geom::file::read_to_string(path).with_context(|| format!("{}: cannot read", path.display()))?;
+    let text =
+        dynray_geom::file::read_back_to_string(path).with_context(|| format!("{}: cannot read", path.display()))?;
     let mut lines = text.lines();
     if lines.next() != Some(TIMINGS_HEADER) {
         bail!(

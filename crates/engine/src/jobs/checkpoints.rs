@@ -32,7 +32,7 @@ pub fn nearest(out: &Path, k: u32) -> Option<u32> {
 /// Restores `stage`'s simulation from frame `c`'s checkpoint.
 pub fn restore(stage: &mut Stage, out: &Path, c: u32) -> Result<()> {
     let p = path(out, c);
-    let bytes = dynray_geom::file::read(&p).with_context(|| format!("{}: cannot read", p.display()))?;
+    let bytes = dynray_geom::file::read_back(&p).with_context(|| format!("{}: cannot read", p.display()))?;
     stage.restore_physics(&bytes).with_context(|| {
         format!("{}: cannot continue from it (delete the checkpoints folder to simulate from time 0)", p.display())
     })

@@ -420,6 +420,7 @@ impl Live {
         if full.0 == 0 || full.1 == 0 || full.0 > max || full.1 > max {
             bail!("image size {}x{} is outside 1..={max} on a side", full.0, full.1);
         }
+        dynray_render::check_image_budget(full.0, full.1).map_err(|m| anyhow::anyhow!(m))?;
         let size = (scaled(full.0, self.scale), scaled(full.1, self.scale));
         frame.settings.width = size.0;
         frame.settings.height = size.1;

@@ -11,28 +11,22 @@ const MAX_WIDTH: u32 = 320;
 /// the preview stays that of the animation).
 const MAX_FRAMES: usize = 120;
 
-/// Writes the PNGs `frames`, in order, as a looping GIF at `fps` (under a temporary name,
-/// then renamed).
+/// Writes the PNGs `frames`, in order, as a looping GIF at `fps` (atomically,
+/// [`crate::output`]).
 pub fn write_gif(frames: &[PathBuf], fps: f32, path: &Path) -> Result<()> {
     let step = frames.len().div_ceil(MAX_FRAMES).max(1);
     let delay_ms = (1000.0 * step as f32 / fps.max(1e-3)).round().clamp(20.0, 10_000.0) as u32;
-    let dir = path.parent().unwrap_or(Path::new("."));
-    let mut tmp = crate::output::readable_temp_builder()
-        .tempfile_in(dir)
-        .with_context(|| format!("{}: cannot create", dir.display()))?;
-    {
-        let mut encoder = GifEncoder::new_with_speed(tmp.as_file_mut(), 10);
-        encoder.set_repeat(Repeat::Infinite).with_context(|| format!("{}: cannot write", path.display()))?;
+    crate::output::write_with(path, |file| {
+        let mut encoder = GifEncoder::new_with_speed(std::io::BufWriter::new(file), 10);
+        encoder.set_repeat(Repeat::Infinite)?;
         for p in frames.iter().step_by(step) {
             let img =
                 image::open(p).with_context(|| format!("{}: cannot read the frame back", p.display()))?.to_rgba8();
             let img = shrink(img);
-            let frame = Frame::from_parts(img, 0, 0, Delay::from_numer_denom_ms(delay_ms, 1));
-            encoder.encode_frame(frame).with_context(|| format!("{}: cannot write", path.display()))?;
+            encoder.encode_frame(Frame::from_parts(img, 0, 0, Delay::from_numer_denom_ms(delay_ms, 1)))?;
         }
-    }
-    tmp.persist(path).map_err(|e| e.error).with_context(|| format!("{}: cannot write", path.display()))?;
-    Ok(())
+        Ok(())
+    })
 }
 
 fn shrink(img: RgbaImage) -> RgbaImage {

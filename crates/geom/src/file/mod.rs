@@ -1,17 +1,49 @@
-//! Reading input files the way every reader of dynray must (DESIGN.md, "Errors and bad
-//! input"): regular files only. A device (`/dev/zero` behind a `bunny.ply` link), a named
-//! pipe or a socket would hang a reader or feed it without end, and a directory has
-//! nothing to parse, so each is refused before it is opened, with an error that says
-//! what it is.
+//! Files the way every reader and writer of dynray must handle them (DESIGN.md, "Errors
+//! and bad input").
+//!
+//! - Reading: regular files only. A device (`/dev/zero` behind a `bunny.ply` link), a
+//!   named pipe or a socket would hang a reader or feed it without end, and a directory
+//!   has nothing to parse, so each is refused before it is opened, with an error that
+//!   says what it is. Every file read is remembered ([`inputs`]).
+//! - Writing ([`atomic`]): whole or not at all, never over a file this process read as
+//!   input, and no temporary left behind by a failure or by SIGINT/SIGTERM.
+
+pub mod atomic;
+pub mod inputs;
+
+pub use atomic::{remove_temporaries, write_atomic};
 
 use std::io;
 use std::path::Path;
 
-/// Fails unless `path` (after following links) is a regular file.
+/// Fails unless `path` (after following links) is a regular file; a regular file is
+/// remembered as an input of this process ([`inputs`]).
 pub fn check_regular(path: &Path) -> io::Result<()> {
+    let meta = regular(path)?;
+    inputs::record(path, &meta);
+    Ok(())
+}
+
+/// Reads back a file the command itself writes and maintains (animate's timings and
+/// physics checkpoints): a regular file like any input, but not remembered as one, since
+/// the command may write it again.
+pub fn read_back(path: &Path) -> io::Result<Vec<u8>> {
+    regular(path)?;
+    std::fs::read(path)
+}
+
+/// [`read_back`] as UTF-8 text.
+pub fn read_back_to_string(path: &Path) -> io::Result<String> {
+    regular(path)?;
+    std::fs::read_to_string(path)
+}
+
+/// `path`'s metadata when it is a regular file (after following links), else an error
+/// that says what it is.
+fn regular(path: &Path) -> io::Result<std::fs::Metadata> {
     let meta = std::fs::metadata(path)?;
     if meta.is_file() {
-        return Ok(());
+        return Ok(meta);
     }
     let what = if meta.is_dir() { "a directory" } else { kind_of_special(&meta) };
     Err(io::Error::new(io::ErrorKind::InvalidInput, format!("not a regular file ({what})")))

@@ -6,7 +6,7 @@
 use super::animate::Axis;
 use super::diag::Diag;
 use super::objects::Shape;
-use super::parser::State;
+use super::parser::{ActorEntry, State};
 use crate::animation::Clip;
 use crate::shapes::uv_sphere;
 use crate::{Actor, Material, Motion, Scene, Settings, Timeline, Transform, Warning};
@@ -36,12 +36,36 @@ pub fn auto_sphere_detail(settings: &Settings) -> u32 {
     n + n % 2
 }
 
+/// Memory per generated triangle, structure included: positions and normals of its
+/// vertices, its indices, and its share of an acceleration structure's nodes.
+const BYTES_PER_TRIANGLE: u64 = 160;
+
+/// Refuses, at the first sphere, spheres whose tessellation would not fit the memory
+/// budget ([`dynray_geom::budget`]), before any is generated: `sphere_detail` is bounded
+/// per sphere, but a thousand spheres at the bound are not.
+fn check_sphere_budget(st: &State, slices: u32) -> Result<(), Diag> {
+    let spheres: Vec<&ActorEntry> =
+        st.actors.iter().filter(|e| e.object.parts.iter().any(|p| matches!(p.shape, Shape::Sphere { .. }))).collect();
+    let Some(first) = spheres.first() else { return Ok(()) };
+    let count: u64 =
+        st.actors.iter().flat_map(|e| &e.object.parts).filter(|p| matches!(p.shape, Shape::Sphere { .. })).count()
+            as u64;
+    let each = 2 * (slices as u64 / 2) * slices as u64;
+    let what = format!(
+        "{count} sphere{} of {each} triangles each (sphere_detail {slices})",
+        if count == 1 { "" } else { "s" }
+    );
+    dynray_geom::budget::check(&what, count.saturating_mul(each).saturating_mul(BYTES_PER_TRIANGLE))
+        .map_err(|m| Diag::new(first.file, first.span.clone(), m))
+}
+
 /// Builds the scene from everything read.
 /// Problems that do not stop it (a texture that cannot be read) go to `warnings`.
 pub(crate) fn build(mut st: State, warnings: &mut Vec<Warning>) -> Result<Scene, Diag> {
     let textures = std::mem::take(&mut st.textures);
     let settings = st.settings.as_ref().map(|s| s.0).unwrap_or_default();
     let slices = st.sphere_detail.unwrap_or_else(|| auto_sphere_detail(&settings));
+    check_sphere_budget(&st, slices)?;
     let mut scene = Scene {
         settings,
         environment: st.environment.as_ref().map(|e| e.0).unwrap_or_default(),

@@ -25,6 +25,12 @@ impl Sources {
         self.files.add(name, text)
     }
 
+    /// True for a file named `*.scn`, or the main file: one whose lines an error may
+    /// quote.
+    pub(crate) fn is_scene_file(&self, id: FileId) -> bool {
+        id == 0 || self.paths.get(id).and_then(|p| p.extension()).is_some_and(|e| e.eq_ignore_ascii_case("scn"))
+    }
+
     /// The text of a file.
     pub(crate) fn text(&self, id: FileId) -> &str {
         self.files.get(id).map(|f| f.source().as_str()).unwrap_or("")
@@ -91,7 +97,24 @@ impl Diag {
     }
 
     /// Renders the error with its source line and caret into a [`LoadError::Scene`].
+    /// An error inside an included file that is not a `.scn` shows its place only: the
+    /// file may be anything an include names (`/etc/passwd`), and neither its lines nor
+    /// its words (which messages quote) belong in an error (issue 43).
     pub(crate) fn into_error(self, sources: &Sources) -> LoadError {
+        if self.file != 0 && !sources.is_scene_file(self.file) {
+            let (line, column) =
+                sources.files.location(self.file, self.span.start).map_or((0, 0), |l| (l.line_number, l.column_number));
+            let path = sources.path(self.file);
+            let message = format!(
+                "line {line}, column {column} is not the scene language (an included file that is not a `.scn` \
+                 is not quoted)"
+            );
+            let mut rendered = format!("{}:{line}:{column}: error: {message}", sources.name(self.file));
+            for n in &self.notes {
+                rendered.push_str(&format!("\n  = {n}"));
+            }
+            return LoadError::Scene { path, line, column, message, rendered };
+        }
         let mut labels = vec![Label::primary(self.file, self.span.clone()).with_message(self.label.clone())];
         for (f, s, l) in &self.secondary {
             labels.push(Label::secondary(*f, s.clone()).with_message(l.clone()));

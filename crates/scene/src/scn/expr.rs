@@ -138,7 +138,12 @@ impl Parser<'_> {
         let start = self.span().start;
         let x = self.real(what)?;
         let span = start..self.prev_end();
-        if !x.is_finite() || x.abs() > f32::MAX as f64 || !ok(x) {
+        if !x.is_finite() || x.abs() > f32::MAX as f64 {
+            return Err(self
+                .err(span, format!("{what} is {x:e}, beyond a 32-bit float's range (±3.4e38)"))
+                .label("expected a number a 32-bit float holds"));
+        }
+        if !ok(x) {
             return Err(self.err(span, format!("{what} is {x}, but {rule}")).label(format!("expected {rule}")));
         }
         Ok(x as f32)

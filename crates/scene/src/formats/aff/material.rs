@@ -115,7 +115,13 @@ impl Materials {
         name: &str,
     ) -> u32 {
         let material = self.current(scene);
-        let path = self.find(file, name);
+        let path = match self.root().check(&self.find(file, name)) {
+            Ok(p) => p,
+            Err(e) => {
+                warnings.push(Warning::new(file, Some(line), format!("texture `{name}`: {e}; rendered untextured")));
+                return material;
+            }
+        };
         let texture =
             *self.loaded.entry(path.clone()).or_insert_with(|| match Texture::load(&path, ColorSpace::Srgb) {
                 Ok(tex) => {
@@ -142,6 +148,12 @@ impl Materials {
             scene.materials.push(m);
             scene.materials.len() as u32 - 1
         })
+    }
+
+    /// The folders the scene's files must stay in ([`crate::reference`]): the top-level
+    /// file's, and BART's `TextureFiles/` beside it.
+    pub fn root(&self) -> crate::reference::Root {
+        crate::reference::Root::folder(&self.root_dir, &[self.root_dir.join("..").join("TextureFiles")])
     }
 
     /// Where texture `name` named in `file` is (module docs); the first candidate when

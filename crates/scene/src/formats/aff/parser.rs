@@ -167,6 +167,7 @@ impl Loader {
     /// `v` and its `from`, `at`, `up`, `angle`, `hither`, `resolution` lines.
     fn read_view(&mut self, t: &mut Tokens<'_>) -> Result<(), LoadError> {
         let mut view = self.view.unwrap_or(View { from: Vec3::Z, at: Vec3::ZERO, up: Vec3::Y, angle: 45.0 });
+        let line = t.line();
         while let Some(w) = t.peek() {
             match w.text {
                 "from" | "at" | "up" | "angle" | "hither" | "resolution" => t.word("a view parameter")?,
@@ -198,6 +199,17 @@ impl Loader {
                 }
             }
         }
+        // A camera that looks nowhere, or rolls about an undefined axis, renders nothing
+        // meaningful: say so rather than draw an empty image.
+        if view.from == view.at {
+            return Err(t.error(
+                line,
+                format!("`v`: `from` and `at` are the same point {:?}: the camera looks nowhere", view.from),
+            ));
+        }
+        if (view.at - view.from).cross(view.up).length_squared() == 0.0 {
+            return Err(t.error(line, format!("`v`: `up` {:?} is parallel to the view direction", view.up)));
+        }
         self.view = Some(view);
         self.scene.camera = Some(Camera {
             position: view.from,
@@ -214,7 +226,11 @@ impl Loader {
         let p = t.vec3("`l` position")?;
         let color = if t.next_is_number() { Color::from_array(t.vec3("`l` colour")?) } else { Color::ONE };
         let position = Vec3::from_array(place.point(p));
-        self.scene.lights.push(Light { kind: LightKind::Point { position, falloff: 0 }, color });
+        self.scene.lights.push(Light {
+            kind: LightKind::Point { position, falloff: 0 },
+            color,
+            emitter_stand_in: false,
+        });
         if let Some(node) = place.node {
             self.scene.animation.light_nodes.push((self.scene.lights.len() - 1, node));
         }
@@ -242,7 +258,7 @@ impl Loader {
         t.number("`i` detail level")?;
         let name = t.word("the file name after `i`")?;
         let dir = t.path.parent().unwrap_or(Path::new(""));
-        let file = dir.join(name.text);
+        let file = self.materials.root().check(&dir.join(name.text)).map_err(|m| t.error(line, m))?;
         let canonical = std::fs::canonicalize(&file)
             .map_err(|e| t.error(line, format!("include `{}`: cannot read {}: {e}", name.text, file.display())))?;
         if let Some(at) = self.includes.iter().position(|p| *p == canonical) {

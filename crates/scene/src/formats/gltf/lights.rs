@@ -16,9 +16,9 @@ use glam::{Mat4, Vec3};
 use gltf::khr_lights_punctual::Kind;
 use std::f32::consts::PI;
 
-/// The dynray light for glTF `light` on a node with world matrix `world`; `None` when
-/// the node's matrix cannot place it (not finite).
-pub(crate) fn convert(light: &gltf::khr_lights_punctual::Light<'_>, world: Mat4) -> Option<Light> {
+/// The dynray light for glTF `light` on a node with world matrix `world`; an error
+/// saying why when its colour × intensity or the node's matrix is not finite.
+pub(crate) fn convert(light: &gltf::khr_lights_punctual::Light<'_>, world: Mat4) -> Result<Light, String> {
     let color = Color::from_array(light.color()) * light.intensity().max(0.0) / PI;
     let position = world.transform_point3(Vec3::ZERO);
     let direction = world.transform_vector3(Vec3::NEG_Z).normalize_or_zero();
@@ -31,10 +31,20 @@ pub(crate) fn convert(light: &gltf::khr_lights_punctual::Light<'_>, world: Mat4)
             LightKind::Spot { position, direction, cos_inner: inner.cos(), cos_outer: outer.cos(), falloff: 2 }
         }
     };
-    let finite = match kind {
+    let placed = match kind {
         LightKind::Directional { direction } => direction != Vec3::ZERO && direction.is_finite(),
         LightKind::Point { position, .. } => position.is_finite(),
         LightKind::Spot { position, direction, .. } => position.is_finite() && direction != Vec3::ZERO,
     };
-    (finite && color.is_finite()).then_some(Light { kind, color })
+    if !color.is_finite() {
+        return Err(format!(
+            "its colour × intensity is not finite ({:?} × {}); skipped",
+            light.color(),
+            light.intensity()
+        ));
+    }
+    if !placed {
+        return Err("its node's transform is not finite (or flattens its direction); skipped".into());
+    }
+    Ok(Light { kind, color, emitter_stand_in: false })
 }

@@ -14,17 +14,30 @@ use std::sync::Arc;
 
 /// The dynray material for a glTF material, without its texture ([`attach_textures`]
 /// adds that).
-pub(super) fn convert(m: &gltf::Material) -> Material {
+pub(super) fn convert(m: &gltf::Material, path: &Path, warnings: &mut Vec<Warning>) -> Material {
     let [r, g, b, a] = m.pbr_metallic_roughness().base_color_factor();
     let mut mat = Material::from_finish(m.name().unwrap_or(""), glam::Vec3::new(r, g, b), &Finish::default());
     if m.alpha_mode() == gltf::material::AlphaMode::Blend {
         mat.transparency = glam::Vec3::splat((1.0 - a).clamp(0.0, 1.0));
     }
     // Linear RGB radiance (glTF's emissive colour is linear, like its base colour);
-    // negative or non-finite values emit nothing.
+    // negative values emit nothing; a product past f32 is said, not rendered black.
     let strength = m.emissive_strength().unwrap_or(1.0);
     let emission = glam::Vec3::from_array(m.emissive_factor()) * strength;
-    mat.emission = if emission.is_finite() { emission.max(glam::Vec3::ZERO) } else { glam::Vec3::ZERO };
+    mat.emission = if emission.is_finite() {
+        emission.max(glam::Vec3::ZERO)
+    } else {
+        let which = m.index().map_or_else(|| "the default material".to_string(), |i| format!("material {i}"));
+        warnings.push(Warning::new(
+            path,
+            None,
+            format!(
+                "{which}: emissiveFactor {:?} × emissive strength {strength} is not a finite radiance; it emits nothing",
+                m.emissive_factor()
+            ),
+        ));
+        glam::Vec3::ZERO
+    };
     mat
 }
 

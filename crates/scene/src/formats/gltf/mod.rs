@@ -40,7 +40,7 @@
 //!   `transparency = 1 - alpha`. The `baseColorTexture` (sRGB) multiplies that colour, as
 //!   glTF's base colour is `factor × texture`: it becomes the material's
 //!   [`Material::diffuse_texture`], with the texture's sampler (`wrapS`/`wrapT`; `NEAREST`
-//!   magnification gives nearest filtering, anything else bilinear; no mipmaps) and
+//!   magnification gives nearest filtering, anything else bilinear, both over mipmaps) and
 //!   `KHR_texture_transform` (offset, rotation, scale). Only texture coordinate set 0 is
 //!   read; a texture on another set is a warning and the material stays untextured.
 //!   Images are PNG or JPEG from a relative/`file:` URI, a `data:` URI or a buffer
@@ -128,8 +128,10 @@ pub fn load(path: &Path) -> Result<LoadReport, LoadError> {
     let buffers = uri::read_buffers(&document, base, blob).map_err(|m| perr(format!("glTF {m}")))?;
     let mut warnings = Vec::new();
 
-    let mut scene =
-        Scene { materials: document.materials().map(|m| material::convert(&m)).collect(), ..Default::default() };
+    let mut scene = Scene {
+        materials: document.materials().map(|m| material::convert(&m, path, &mut warnings)).collect(),
+        ..Default::default()
+    };
     let mut default_material = None;
 
     // Mesh instances in walk order, and the rig of the walked nodes (`rig_of[gltf node]`).
@@ -163,12 +165,10 @@ pub fn load(path: &Path) -> Result<LoadReport, LoadError> {
                 }
                 if let Some(light) = node.light() {
                     match lights::convert(&light, world) {
-                        Some(l) => scene.lights.push(l),
-                        None => warnings.push(Warning::new(
-                            path,
-                            None,
-                            format!("node {}: its light cannot be placed (matrix not finite); skipped", node.index()),
-                        )),
+                        Ok(l) => scene.lights.push(l),
+                        Err(why) => {
+                            warnings.push(Warning::new(path, None, format!("node {}: light: {why}", node.index())))
+                        }
                     }
                 }
                 let children: Vec<_> = node.children().collect();

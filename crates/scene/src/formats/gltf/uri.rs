@@ -4,8 +4,9 @@
 //! dynray reads these itself instead of through gltf's `import` feature, which would
 //! also bring gltf's own image decoding (it decodes every image of a file, used or not).
 //! The checks gltf 1.4 lacks are made here: a relative URI that percent-decodes to
-//! invalid UTF-8 (gltf panics on it) is an error, and a URI must name a regular file
-//! (a device such as `/dev/zero` would be read forever).
+//! invalid UTF-8 (gltf panics on it) is an error, a URI must name a regular file (a
+//! device such as `/dev/zero` would be read forever), and a file must stay inside the
+//! glTF file's folder tree (crate::reference: no `/etc/passwd`, no `../../`).
 
 use base64::engine::general_purpose::{GeneralPurpose, GeneralPurposeConfig};
 use base64::engine::DecodePaddingMode;
@@ -50,6 +51,7 @@ pub(super) fn read(base: &Path, uri: &str) -> Result<Vec<u8>, String> {
     match parse(base, uri)? {
         Uri::Data { base64, .. } => BASE64.decode(base64).map_err(|e| format!("data URI: {e}")),
         Uri::File(file) => {
+            let file = crate::reference::Root::folder(base, &[]).check(&file)?;
             check_regular_file(&file)?;
             dynray_geom::file::read(&file).map_err(|e| format!("{}: {e}", file.display()))
         }
@@ -151,7 +153,13 @@ mod tests {
         assert!(read(dir.path(), "missing.bin").unwrap_err().contains("missing.bin"));
         assert!(read(dir.path(), "http://example.com/x.bin").unwrap_err().contains("not supported"));
         if Path::new("/dev/zero").exists() {
-            assert!(read(dir.path(), "file:///dev/zero").unwrap_err().contains("not a regular file"));
+            // Outside the glTF's folder: refused before its type is even looked at.
+            assert!(read(dir.path(), "file:///dev/zero").unwrap_err().contains("outside"));
+        }
+        // Inside the folder, a named pipe is still no buffer.
+        let fifo = dir.path().join("pipe.bin");
+        if std::process::Command::new("mkfifo").arg(&fifo).status().is_ok_and(|s| s.success()) {
+            assert!(read(dir.path(), "pipe.bin").unwrap_err().contains("not a regular file"));
         }
     }
 }

@@ -52,7 +52,7 @@ pub(super) fn read_geometry(
             flat = p.boolean("face_normals", false)?;
             // Texture coordinates are not used by any supported BSDF.
             p.boolean("flip_tex_coords", true)?;
-            let path = e.resolve(&file);
+            let path = e.resolve(&file)?;
             let wrap = |err: LoadError| e.error(format!("{err}"));
             if ty == "obj" {
                 let report = crate::formats::obj::load(&path).map_err(wrap)?;

@@ -61,15 +61,13 @@ impl Elem {
 
     /// A path written in this element's file: relative to that file's folder, or where
     /// that does not exist, to the main scene file's folder (Mitsuba's resolver searches
-    /// both; the Cornell box's fragments name meshes relative to the main file).
-    pub fn resolve(&self, name: &str) -> PathBuf {
+    /// both; the Cornell box's fragments name meshes relative to the main file). It must
+    /// stay inside the main file's folder tree ([`crate::reference`]).
+    pub fn resolve(&self, name: &str) -> Result<PathBuf, LoadError> {
         let here = self.file.parent().unwrap_or(Path::new("")).join(name);
         let main = self.root.parent().unwrap_or(Path::new("")).join(name);
-        if here.exists() || !main.exists() {
-            here
-        } else {
-            main
-        }
+        let path = if here.exists() || !main.exists() { here } else { main };
+        crate::reference::Root::of(&self.root, &[]).check(&path).map_err(|m| self.error(m))
     }
 }
 
@@ -179,7 +177,7 @@ fn convert(
             }
             "include" => {
                 c.only_attrs(&["filename"])?;
-                let path = c.resolve(c.required("filename")?);
+                let path = c.resolve(c.required("filename")?)?;
                 let included = read_file(&path, root, defaults, stack)
                     .map_err(|err| c.error(format!("in the included file: {err}")))?;
                 e.children.extend(included.children);
