@@ -19,6 +19,10 @@ pub struct Cli {
     /// Worker threads, at least 1 (default: all cores).
     #[arg(long, global = true, value_name = "N", value_parser = threads_parser())]
     pub threads: Option<usize>,
+    /// Let models (glTF, OBJ/MTL, Mitsuba, AFF) read files outside their own folder tree
+    /// (also DYNRAY_ALLOW_OUTSIDE_REFERENCES=1; docs/limits.md).
+    #[arg(long, global = true)]
+    pub allow_outside_references: bool,
     #[command(subcommand)]
     pub command: Command,
 }

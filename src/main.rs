@@ -3,14 +3,18 @@
 
 mod cli;
 mod commands;
+mod interrupt;
+mod progress;
 
 use clap::Parser;
 use std::process::ExitCode;
 
 /// Exit codes: 0 success (also when the reader of stdout went away: `dynray info x |
 /// head -1`), 1 a failure the message explains (bad input, unwritable output, ...), 2 a
-/// usage error (clap's own code).
+/// usage error (clap's own code, and an option combination a job's check refuses).
 fn main() -> ExitCode {
+    quiet_vulkan_layers_without_a_session();
+    interrupt::remove_temporaries_on_signals();
     let args = cli::Cli::parse();
     match commands::run(args) {
         Ok(()) => ExitCode::SUCCESS,
@@ -22,8 +26,24 @@ fn main() -> ExitCode {
                 return ExitCode::SUCCESS;
             }
             eprintln!("dynray: {}", message(&err));
-            ExitCode::FAILURE
+            if err.downcast_ref::<commands::UsageError>().is_some() {
+                ExitCode::from(2)
+            } else {
+                ExitCode::FAILURE
+            }
         }
+    }
+}
+
+/// Without a desktop session (XDG_RUNTIME_DIR unset: CI, ssh, containers), Mesa's
+/// device-select Vulkan layer fails to reach a Wayland display and prints "error:
+/// XDG_RUNTIME_DIR is invalid or not set" for every device opened, which reads like a
+/// dynray failure. It only orders the adapters, which wgpu chooses among itself, so it is
+/// switched off then (`NODEVICE_SELECT=1`, unless the user set it). Called first in
+/// `main`, while the process has one thread, as changing the environment requires.
+fn quiet_vulkan_layers_without_a_session() {
+    if std::env::var_os("XDG_RUNTIME_DIR").is_none() && std::env::var_os("NODEVICE_SELECT").is_none() {
+        std::env::set_var("NODEVICE_SELECT", "1");
     }
 }
 

@@ -289,3 +289,33 @@ fn resume_renders_an_empty_frame_again() {
     assert!(err.contains("resuming: 1 of 2 frames already there"), "{err}");
     assert_eq!(frames_in(&out), want);
 }
+
+/// Issue 48: a run whose stderr is a log, not a terminal, is never silent: the frame
+/// count up front, an estimate after the first frame, a line per frame when asked for
+/// every one (`DYNRAY_PROGRESS_SECONDS=0`) — and none of it with the default gap on a
+/// run this short, but for the count and the estimate.
+#[test]
+fn a_logged_run_says_how_far_it_is() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = cesium_man();
+    let run = |out: &Path, gap: Option<&str>| {
+        let mut c = std::process::Command::new(env!("CARGO_BIN_EXE_dynray"));
+        c.args(["animate", scene.to_str().unwrap(), "--out", out.to_str().unwrap(), "--frames", "0..2"]);
+        c.args(["--width", "32", "--height", "24", "--spp", "1"]).env_remove("DYNRAY_PROGRESS_SECONDS");
+        if let Some(gap) = gap {
+            c.env("DYNRAY_PROGRESS_SECONDS", gap);
+        }
+        let o = ok(c.output().unwrap());
+        String::from_utf8_lossy(&o.stderr).into_owned()
+    };
+    let every = run(&tmp.path().join("every"), Some("0"));
+    assert!(every.contains("CesiumMan.gltf: 3 frames to render"), "{every}");
+    assert!(every.contains("the first frame took") && every.contains("all 3 should take about"), "{every}");
+    for k in 1..=3 {
+        assert!(every.contains(&format!("frame {k}/3 (")), "frame {k}: {every}");
+    }
+    assert!(every.contains("frame 1/3") && every.contains("left"), "an estimate of what is left: {every}");
+    let quiet = run(&tmp.path().join("quiet"), None);
+    assert!(quiet.contains("3 frames to render") && quiet.contains("the first frame took"), "{quiet}");
+    assert!(!quiet.contains("frame 1/3"), "a 3-frame run lasts less than the 5 s gap: {quiet}");
+}

@@ -97,8 +97,8 @@ fn what_the_gpu_cannot_animate_is_refused_before_writing() {
         let dir = tmp.path().join(format!("refused-{i}"));
         let o = animate(&dir, extra);
         let err = String::from_utf8_lossy(&o.stderr);
-        // Refused before a device is opened: the same message with or without one.
-        assert_eq!(o.status.code(), Some(1), "{extra:?}: {err}");
+        // Refused as a usage error before a device is opened: the same with or without one.
+        assert_eq!(o.status.code(), Some(2), "{extra:?}: {err}");
         assert!(err.contains(needle), "{extra:?}: expected `{needle}` in: {err}");
         assert!(!dir.exists(), "{extra:?}: a refused run created {}", dir.display());
     }

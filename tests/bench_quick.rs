@@ -490,6 +490,10 @@ fn quick_bench_of_every_preset_writes_a_complete_consistent_report() {
     ] {
         assert!(md.contains(heading), "report.md lacks {heading}");
     }
+    // Issue 48: throughput is read with the framing and the share of rays that hit.
+    assert!(md.contains("| framing | scene: the scene's camera"), "{md}");
+    assert!(md.contains("primary Mrays/s (") && md.contains("% hit) |"), "{md}");
+    assert!(md.contains("% occluded"), "{md}");
     // --replot redraws from the JSON alone.
     std::fs::remove_file(out.path().join("report.md")).unwrap();
     std::fs::remove_file(out.path().join("seed004-speedup.svg")).unwrap();

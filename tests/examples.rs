@@ -125,6 +125,12 @@ fn include_only_files_render_nothing_and_define_their_materials() {
     let path = examples_dir().join("materials.scn");
     let scene = load(&path);
     assert!(scene.actors.is_empty(), "materials.scn should only define things");
+    // Rendered on its own it says what it is, not that a mesh has no triangles (issue 48).
+    let out = tempfile::tempdir().unwrap();
+    let o = dynray(&["render", path.to_str().unwrap(), "-o", out.path().join("m.png").to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("nothing to render: the scene has no objects") && err.contains("`include`"), "{err}");
     // Using every definition from a scene in the same folder evaluates them all.
     let text = r#"
         include "materials.scn"

@@ -150,7 +150,8 @@ fn aovs_need_an_exr_output_and_names_are_checked() {
     let png = dir.path().join("depth.png");
     let o = dynray(&["render", "--aov", "depth", "-o", png.to_str().unwrap()]);
     let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(1), "{err}");
+    // An output type that cannot hold the AOV is an option refused before any work.
+    assert_eq!(o.status.code(), Some(2), "{err}");
     assert!(err.contains("depth.png") && err.contains(".exr"), "{err}");
     assert!(!png.exists());
     for (flag, value, listed) in [("--aov", "uv", "albedo"), ("--integrator", "photon", "whitted"), ("--spp", "0", "1")]
@@ -195,8 +196,8 @@ fn cumulative_at_full_branch_depth_is_whitted_and_its_flags_are_checked() {
     assert!(err.contains("2 spp × 3 passes"), "{err}");
     let png = out.to_str().unwrap();
     for (args, code, says) in [
-        (vec!["--branch-depth", "2"], 1, "--branch-depth applies to --integrator cumulative only"),
-        (vec!["--integrator", "path", "--passes", "2"], 1, "--passes applies to --integrator cumulative only"),
+        (vec!["--branch-depth", "2"], 2, "--branch-depth applies to --integrator cumulative only"),
+        (vec!["--integrator", "path", "--passes", "2"], 2, "--passes applies to --integrator cumulative only"),
         (vec!["--integrator", "cumulative", "--passes", "0"], 2, "--passes"),
         (vec!["--integrator", "cumulative", "--branch-depth", "two"], 2, "--branch-depth"),
         (vec!["--integrator", "cumulative", "--passes", "40000", "--spp", "2"], 1, "more than 65536"),
@@ -208,4 +209,28 @@ fn cumulative_at_full_branch_depth_is_whitted_and_its_flags_are_checked() {
         assert_eq!(o.status.code(), Some(code), "{args:?}: {err}");
         assert!(err.contains(says), "{args:?}: {err}");
     }
+}
+
+/// Issue 48: in a log (stderr not a terminal) a render reports its tiles, with the
+/// elapsed time, when asked for every step; with the default gap a render this short
+/// stays quiet but for its summary.
+#[test]
+fn a_logged_render_reports_its_tiles() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("x.png");
+    let run = |gap: Option<&str>| {
+        let mut c = std::process::Command::new(env!("CARGO_BIN_EXE_dynray"));
+        c.args(["render", "-o", out.to_str().unwrap(), "--width", "64", "--height", "48", "--spp", "1"]);
+        c.env_remove("DYNRAY_PROGRESS_SECONDS");
+        if let Some(gap) = gap {
+            c.env("DYNRAY_PROGRESS_SECONDS", gap);
+        }
+        String::from_utf8_lossy(&ok(c.output().unwrap()).stderr).into_owned()
+    };
+    let every = run(Some("0"));
+    assert!(every.contains("built-in demo scene: 100% of the tiles ("), "{every}");
+    assert!(every.lines().filter(|l| l.contains("% of the tiles")).count() > 1, "{every}");
+    assert!(every.contains(" after ") && every.contains(" left"), "{every}");
+    let quiet = run(None);
+    assert!(!quiet.contains("of the tiles"), "{quiet}");
 }

@@ -6,7 +6,7 @@
 mod support;
 
 use std::path::Path;
-use support::{dynray, examples_dir, fails_with, gpu_present, max_abs_difference, ok, read_exr_channels};
+use support::{dynray, examples_dir, gpu_present, max_abs_difference, ok, read_exr_channels, refused_as_usage};
 
 /// Largest per-channel difference allowed: the strategies' f32 shading differs from the
 /// CPU's by a few ulps (render_strategies.rs measures 2.44e-6 on its scene).
@@ -66,11 +66,11 @@ fn what_the_gpu_does_not_render_is_refused() {
         dynray(&args)
     };
     for strategy in ["megakernel", "hybrid"] {
-        fails_with(with(&["--integrator", "path", "--gpu-strategy", strategy]), "--gpu-strategy wavefront only");
+        refused_as_usage(with(&["--integrator", "path", "--gpu-strategy", strategy]), "--gpu-strategy wavefront only");
     }
-    fails_with(with(&["--accel", "bih"]), "the GPU backend traverses a BVH only");
+    refused_as_usage(with(&["--accel", "bih"]), "the GPU backend traverses a BVH only");
     // The wide tree's parameters do not describe the binary tree the GPU traverses.
-    fails_with(with(&["--accel", "bvh:width=4"]), "as `bvh2:…`");
+    refused_as_usage(with(&["--accel", "bvh:width=4"]), "as `bvh2:…`");
     assert!(!out.exists(), "a refused render left an image");
 }
 

@@ -7,7 +7,7 @@
 mod support;
 
 use std::path::Path;
-use support::{dynray, examples_dir, fails_with, gpu_present, max_abs_difference, ok, read_exr_channels};
+use support::{dynray, examples_dir, gpu_present, max_abs_difference, ok, read_exr_channels, refused_as_usage};
 
 /// Largest per-channel difference allowed where CPU and GPU trace the same paths: f32
 /// shading in another rounding (tests/render_gpu_cli.rs uses the same bound).
@@ -117,7 +117,7 @@ fn cumulative_on_other_strategies_is_refused() {
     let o = out.to_str().unwrap();
     for strategy in ["megakernel", "hybrid"] {
         let args = ["render", "-o", o, "--backend", "gpu", "--gpu-strategy", strategy, "--integrator", "cumulative"];
-        fails_with(dynray(&args), "--gpu-strategy wavefront only");
+        refused_as_usage(dynray(&args), "--gpu-strategy wavefront only");
     }
     assert!(!out.exists(), "a refused render left an image");
 }

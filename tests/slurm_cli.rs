@@ -12,7 +12,7 @@ mod support;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::{Duration, Instant};
-use support::{dynray, ok, root, scenes_dir};
+use support::{dynray, ok, root, scenes_dir, skipped};
 
 /// The cluster of one test, stopped when dropped.
 struct Cluster {
@@ -129,7 +129,7 @@ fn an_array_job_and_a_cancelled_requeued_task_give_one_processs_frames() {
             panic!("DYNRAY_REQUIRE_SLURM=1 but no Slurm cluster could be started: {why}")
         }
         Err(why) => {
-            eprintln!("SKIPPED: no Slurm cluster on this machine: {why}");
+            skipped(&format!("no Slurm cluster on this machine: {why}"));
             return;
         }
     };

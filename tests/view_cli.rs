@@ -8,7 +8,7 @@ mod support;
 
 use std::path::Path;
 use std::process::{Command, Output};
-use support::{dynray, ok, root};
+use support::{dynray, ok, root, skipped};
 
 /// Runs `dynray view ARGS` under a fresh Xvfb server; `None` (skip) without xvfb-run.
 fn view(args: &[&str]) -> Option<Output> {
@@ -18,7 +18,7 @@ fn view(args: &[&str]) -> Option<Output> {
             std::env::var("DYNRAY_REQUIRE_DISPLAY").map_or(true, |v| v != "1"),
             "xvfb-run is missing (Debian: apt-get install xvfb xauth)"
         );
-        eprintln!("skipping: no xvfb-run (Debian: apt-get install xvfb xauth)");
+        skipped("no xvfb-run (Debian: apt-get install xvfb xauth)");
         return None;
     }
     let runtime = tempfile::tempdir().unwrap();

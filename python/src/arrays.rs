@@ -2,7 +2,7 @@
 //! and dtype are checked and its rows read in whatever memory order it has (C, Fortran,
 //! strided views), with errors that name the argument.
 
-use numpy::{PyReadonlyArray1, PyReadonlyArray2, PyUntypedArray, PyUntypedArrayMethods};
+use numpy::{PyArrayDescrMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArray, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 
@@ -32,8 +32,8 @@ pub fn rows_of(a: &Bound<'_, PyUntypedArray>, cols: usize, what: &str) -> PyResu
     }
 }
 
-/// A (K, C) float32 or float64 array as rows of f32 (float64 rounded to nearest, the
-/// engine's precision, as `astype(np.float32)` rounds).
+/// A (K, C) real numeric array as rows of f32 (float64 rounded to nearest, the engine's
+/// precision, as `astype(np.float32)` rounds; integers and float16 through float64).
 pub fn float_rows<const C: usize>(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<[f32; C]>> {
     let a = ndarray(obj, what)?;
     rows_of(&a, C, what)?;
@@ -49,7 +49,22 @@ pub fn float_rows<const C: usize>(obj: &Bound<'_, PyAny>, what: &str) -> PyResul
     if let Ok(a) = a.extract::<PyReadonlyArray2<'_, f64>>() {
         return Ok(a.as_array().rows().into_iter().map(|r| std::array::from_fn(|j| r[j] as f32)).collect());
     }
-    Err(PyTypeError::new_err(format!("{what} must be float32 or float64, found {}", dtype_name(&a))))
+    let wide = as_float64(&a, what)?;
+    let wide = wide.extract::<PyReadonlyArray2<'_, f64>>()?;
+    Ok(wide.as_array().rows().into_iter().map(|r| std::array::from_fn(|j| r[j] as f32)).collect())
+}
+
+/// Any other real numeric array (integers of any width, float16) as float64, which holds
+/// them exactly or rounds as numpy would; booleans, complex numbers and objects are refused.
+fn as_float64<'py>(a: &Bound<'py, PyUntypedArray>, what: &str) -> PyResult<Bound<'py, PyUntypedArray>> {
+    if !matches!(a.dtype().kind(), b'i' | b'u' | b'f') {
+        return Err(PyTypeError::new_err(format!(
+            "{what} must be a real numeric array (floats or integers), found {}",
+            dtype_name(a)
+        )));
+    }
+    let wide = a.call_method1("astype", ("float64",))?;
+    Ok(wide.cast_into::<PyUntypedArray>()?)
 }
 
 /// Checks every coordinate is finite, naming the first bad row.
@@ -99,7 +114,7 @@ pub fn faces(obj: &Bound<'_, PyAny>, vertices: usize, what: &str) -> PyResult<Ve
         })
 }
 
-/// A float or an (N,) float32/float64 array, as N values.
+/// A number or an (N,) real numeric array, as N values.
 pub fn scalar_or_column(obj: &Bound<'_, PyAny>, n: usize, what: &str) -> PyResult<Vec<f32>> {
     if let Ok(x) = obj.extract::<f64>() {
         return Ok(vec![x as f32; n]);
@@ -117,5 +132,7 @@ pub fn scalar_or_column(obj: &Bound<'_, PyAny>, n: usize, what: &str) -> PyResul
     if let Ok(a) = a.extract::<PyReadonlyArray1<'_, f64>>() {
         return Ok(a.as_array().iter().map(|&x| x as f32).collect());
     }
-    Err(PyTypeError::new_err(format!("{what} must be float32 or float64, found {}", dtype_name(&a))))
+    let wide = as_float64(&a, what)?;
+    let wide = wide.extract::<PyReadonlyArray1<'_, f64>>()?;
+    Ok(wide.as_array().iter().map(|&x| x as f32).collect())
 }

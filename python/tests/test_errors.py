@@ -23,7 +23,8 @@ F = np.array([[0, 1, 2]], np.int32)
         (V, -F - 1, ValueError, "index -1 is outside"),
         (V, np.array([[0, 1, 2**40]]), ValueError, "index 1099511627776 is outside"),
         (V, F[:0], ValueError, "no triangles"),
-        (V.astype(np.float16), F, TypeError, "vertices must be float32 or float64, found float16"),
+        (V.astype(bool), F, TypeError, r"vertices must be a real numeric array \(floats or integers\), found bool"),
+        (V.astype(np.complex64), F, TypeError, "found complex64"),
         (V, F.astype(np.int16), TypeError, "faces must be int32, int64, uint32 or uint64, found int16"),
         (V, F.astype(np.float32), TypeError, "found float32"),
         ("abc", F, ValueError, "vertices must have shape"),
@@ -39,6 +40,27 @@ def test_accepted_mesh_dtypes_and_orders():
         for vd in (np.float32, np.float64):
             m = dynray.Mesh(np.asfortranarray(V.astype(vd)), np.asfortranarray(F.astype(fd)))
             assert m.triangle_count == 1 and np.array_equal(m.vertices, V) and m.faces.dtype == np.uint32
+
+
+def test_any_real_numeric_array_is_read(bunny):
+    """Issue 48: integer and list coordinates, and float16, are read as the numbers they
+    hold (integer directions were refused while integer origins were accepted)."""
+    for vd in (np.int32, np.int64, np.uint8, np.float16):
+        m = dynray.Mesh(V.astype(vd), F)
+        assert np.array_equal(m.vertices, V)
+    bvh = dynray.build(bunny.mesh, "bvh")
+    # The bunny stands about 0.03..0.19 high: a ray at y = 0.125 (exact in every dtype
+    # as 1/8 of an integer grid) hits it.
+    want = bvh.intersect(np.float32([[0, 0.125, 1]]), np.float32([[0, 0, -1]]))
+    for origins, directions in [
+        ([[0, 0.125, 1]], [[0, 0, -1]]),
+        (np.float16([[0, 0.125, 1]]), np.int32([[0, 0, -1]])),
+        ([0, 0.125, 1], np.int8([[0, 0, -1]])),
+    ]:
+        got = bvh.intersect(origins, directions, tmin=0, tmax=np.int64([10]))
+        assert got["prim"][0] == want["prim"][0] != -1 and got["t"][0] == want["t"][0]
+    with pytest.raises(TypeError, match="directions must be a real numeric array"):
+        bvh.intersect([[0, 0, 1]], [[True, False, True]])
 
 
 def test_load_errors_name_the_file(tmp_path):
@@ -95,8 +117,13 @@ def test_query_errors():
         s.intersect(rays, tmin=0.5)
     with pytest.raises(ValueError, match=r"tmax must be a number or have shape \(4,\)"):
         s.intersect(rays[:, :3], rays[:, 3:6], tmax=np.ones(3))
-    with pytest.raises(TypeError, match="float32 or float64, found int64"):
-        s.intersect(np.zeros((4, 8), np.int64))
+    with pytest.raises(TypeError, match="rays must be a real numeric array .*, found complex128"):
+        s.intersect(np.zeros((4, 8), np.complex128))
+    # Integer rays are read as the numbers they hold (issue 48).
+    finite = rays.copy()
+    finite[:, 7] = 10
+    whole = np.trunc(finite)
+    assert s.intersect(whole.astype(np.int64))["t"].tolist() == s.intersect(whole)["t"].tolist()
     assert s.intersect(rays)["prim"].tolist() == [0, -1, -1, -1]  # still usable
 
 

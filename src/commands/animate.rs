@@ -2,9 +2,10 @@
 //! engine's animate job, with a progress bar (docs/animate.md).
 
 use crate::cli::AnimateArgs;
+use crate::progress::{duration, Progress};
 use anyhow::Result;
 use dynray_engine::{AnimateEvent, AnimateJob};
-use indicatif::{ProgressBar, ProgressStyle};
+use std::time::{Duration, Instant};
 
 pub fn run(a: AnimateArgs) -> Result<()> {
     let job = AnimateJob {
@@ -29,42 +30,55 @@ pub fn run(a: AnimateArgs) -> Result<()> {
         backend: a.backend.choice(),
         gpu_strategy: a.gpu_strategy,
     };
-    job.check()?;
+    super::usage(job.check())?;
     let loaded = super::load(Some(&a.scene))?;
     let label = loaded.label.clone();
-    let bar = ProgressBar::hidden();
-    bar.set_style(ProgressStyle::with_template("{bar:40} frame {pos}/{len} {elapsed} (eta {eta}) {msg}").unwrap());
     if a.merge {
         eprintln!("{}", job.merge(loaded)?);
         return Ok(());
     }
+    let progress = Progress::new(&label, "{bar:40} frame {pos}/{len} {elapsed} (eta {eta}) {msg}", Duration::ZERO);
+    let verb = if a.checkpoints_only { "simulate" } else { "render" };
+    let (mut total, mut done, mut started) = (0, 0, Instant::now());
     let mut restored = false;
-    let mut on_event = |event: AnimateEvent<'_>| match event {
-        AnimateEvent::Resuming { done, of } => eprintln!("{label}: resuming: {done} of {of} frames already there"),
-        AnimateEvent::Physics(what) => eprintln!("{label}: physics: {what}"),
-        // The first restore says where the run starts; later ones (a checkpoint another
-        // task wrote ahead of this one) would be a line a frame.
-        AnimateEvent::FromCheckpoint { frame } => {
-            if !restored {
-                restored = true;
-                bar.suspend(|| eprintln!("{label}: physics continues from the checkpoint of frame {frame}"));
+    let mut on_event = |event: AnimateEvent<'_>| {
+        let step = match event {
+            AnimateEvent::Resuming { done, of } => {
+                return progress.say(&format!("resuming: {done} of {of} frames already there"));
             }
+            AnimateEvent::Physics(what) => return progress.say(&format!("physics: {what}")),
+            // The first restore says where the run starts; later ones (a checkpoint
+            // another task wrote ahead of this one) would be a line a frame.
+            AnimateEvent::FromCheckpoint { frame } => {
+                if !restored {
+                    restored = true;
+                    progress.say(&format!("physics continues from the checkpoint of frame {frame}"));
+                }
+                return;
+            }
+            AnimateEvent::Started { count } => {
+                // Said up front: a BART scene without --frames is hundreds of frames.
+                (total, started) = (count, Instant::now());
+                progress.say(&format!("{count} frame{} to {verb}", if count == 1 { "" } else { "s" }));
+                return progress.update(0, total, String::new);
+            }
+            AnimateEvent::Simulated { took, .. } => format!("simulated {}", duration(took)),
+            AnimateEvent::Frame { update, to_image, .. } => format!("{update}, {}", duration(to_image)),
+        };
+        done += 1;
+        if done == 1 && total > 1 {
+            let first = started.elapsed();
+            progress.say(&format!(
+                "the first frame took {}: all {total} should take about {}",
+                duration(first),
+                duration(first.mul_f64(total as f64))
+            ));
         }
-        AnimateEvent::Simulated { took, .. } => {
-            bar.set_message(format!("simulated {:.0} ms", took.as_secs_f64() * 1e3));
-            bar.inc(1);
-        }
-        AnimateEvent::Started { count } => {
-            bar.set_length(count as u64);
-            bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
-        }
-        AnimateEvent::Frame { update, to_image, .. } => {
-            bar.set_message(format!("{update} {:.0} ms", to_image.as_secs_f64() * 1e3));
-            bar.inc(1);
-        }
+        progress.set_message(step.clone());
+        progress.update(done, total, || format!("frame {done}/{total} ({step})"));
     };
     let summary = if a.checkpoints_only { job.simulate(loaded, &mut on_event) } else { job.run(loaded, &mut on_event) };
-    bar.finish_and_clear();
+    progress.finish();
     eprintln!("{}", summary?);
     Ok(())
 }

@@ -87,7 +87,7 @@ fn config(a: BenchArgs) -> Result<BenchConfig> {
             },
         };
     }
-    a.backend.choice().check()?;
+    super::usage(a.backend.choice().check())?;
     c.gpu = a.backend.gpu_options().map(|options| GpuBench { options, build: a.backend.gpu_build });
     c.out = a.out;
     c.scenes_dir = a.scenes_dir;

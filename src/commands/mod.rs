@@ -22,6 +22,9 @@ pub fn run(cli: Cli) -> Result<()> {
         anyhow::ensure!(n > 0, "--threads must be at least 1");
         rayon::ThreadPoolBuilder::new().num_threads(n).build_global().context("cannot start the thread pool")?;
     }
+    if cli.allow_outside_references {
+        dynray_scene::reference::allow_outside(true);
+    }
     match cli.command {
         Command::Render(a) => render::run(a),
         Command::TraceRays(a) => trace_rays::run(a),
@@ -32,6 +35,24 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Adf(a) => adf::run(a),
         Command::View(a) => view::run(a),
     }
+}
+
+/// An option, or a combination of options, that a job refused before reading any input
+/// (its `check`): the binary exits 2 for it, as for clap's own usage errors.
+#[derive(Debug)]
+pub struct UsageError(anyhow::Error);
+
+impl std::fmt::Display for UsageError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{:#}", self.0)
+    }
+}
+
+impl std::error::Error for UsageError {}
+
+/// A job's option check, its refusal marked as a usage error.
+fn usage(checked: Result<()>) -> Result<()> {
+    checked.map_err(|e| UsageError(e).into())
 }
 
 /// Loads a file (or the demo when `None`) as the engine does, unshaded. Warnings (a

@@ -2,30 +2,27 @@
 //! through the engine's render job.
 
 use crate::cli::RenderArgs;
+use crate::progress::Progress;
 use anyhow::Result;
 use dynray_engine::RenderJob;
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use std::time::{Duration, Instant};
+use std::time::Duration;
+
+/// A render shows its bar once it has lasted this long.
+const BAR_AFTER: Duration = Duration::from_millis(300);
 
 pub fn run(a: RenderArgs) -> Result<()> {
     let job = RenderJob { output: Some(a.output.clone()), passes: a.passes, aov: a.aov, ..a.image.job() };
     // Option combinations fail at once, before the scene is read.
-    job.check()?;
+    super::usage(job.check())?;
     let loaded = super::load(a.scene.as_deref())?;
 
-    let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::hidden());
-    bar.set_style(ProgressStyle::with_template("{bar:40} {percent:>3}% {elapsed} (eta {eta})").unwrap());
-    let started = Instant::now();
-    // Only renders longer than a moment get a bar; indicatif hides it when stderr is no terminal.
-    let progress = |done: usize, total: usize| {
-        if bar.is_hidden() && started.elapsed() > Duration::from_millis(300) && done < total {
-            bar.set_draw_target(ProgressDrawTarget::stderr());
-        }
-        bar.set_length(total as u64);
-        bar.set_position(done as u64);
+    // Only renders longer than a moment get a bar; a log gets a line every few seconds.
+    let progress = Progress::new(&loaded.label, "{bar:40} {percent:>3}% {elapsed} (eta {eta})", BAR_AFTER);
+    let report = |done: usize, total: usize| {
+        progress.update(done, total, || format!("{}% of the tiles ({done}/{total})", done * 100 / total.max(1)))
     };
-    let rendered = job.run(loaded, Some(&progress))?;
-    bar.finish_and_clear();
+    let rendered = job.run(loaded, Some(&report))?;
+    progress.finish();
     rendered.write(&a.output)?;
     eprintln!("{} -> {}", rendered.summary, a.output.display());
     Ok(())

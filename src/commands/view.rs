@@ -8,7 +8,7 @@ use anyhow::Result;
 pub fn run(a: ViewArgs) -> Result<()> {
     let job = a.image.job();
     // Option combinations fail at once, before the scene is read or a window opens.
-    job.check()?;
+    super::usage(job.check())?;
     dynray_view::run(dynray_view::ViewOptions {
         scene: a.scene,
         job,

@@ -108,8 +108,17 @@ pub fn gpu_present() -> bool {
     let why = String::from_utf8_lossy(&info.stderr).to_string();
     assert!(why.contains("mesa-vulkan-drivers"), "{why}");
     assert!(std::env::var("DYNRAY_REQUIRE_GPU").map_or(true, |v| v != "1"), "no GPU: {why}");
-    eprintln!("skipping: {why}");
+    skipped(why.trim());
     false
+}
+
+/// Says that the running test skipped, and why, where a plain `cargo test` shows it (a
+/// `SKIPPED` line beside the `ok`): libtest captures the print macros' output, not writes
+/// to the stderr handle.
+pub fn skipped(why: &str) {
+    use std::io::Write;
+    let test = std::thread::current().name().unwrap_or("a test").to_string();
+    let _ = writeln!(std::io::stderr(), "SKIPPED {test}: {why}");
 }
 
 /// Every channel of the first layer of an EXR (channel after channel, each row-major).
@@ -128,8 +137,20 @@ pub fn max_abs_difference(a: &[f32], b: &[f32]) -> f32 {
 /// Asserts a clean failure: exit 1, one `dynray:` message mentioning `needle`, no panic.
 #[track_caller]
 pub fn fails_with(o: Output, needle: &str) {
+    exits_with(o, 1, needle);
+}
+
+/// Asserts an option (or combination) refused as a usage error before any work: exit 2,
+/// as for clap's own, with a `dynray:` message mentioning `needle`.
+#[track_caller]
+pub fn refused_as_usage(o: Output, needle: &str) {
+    exits_with(o, 2, needle);
+}
+
+#[track_caller]
+fn exits_with(o: Output, code: i32, needle: &str) {
     let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(1), "expected exit 1, got {:?}: {err}", o.status);
+    assert_eq!(o.status.code(), Some(code), "expected exit {code}, got {:?}: {err}", o.status);
     assert!(err.contains("dynray: "), "message should say `dynray: `: {err}");
     assert!(err.contains(needle), "message should mention {needle:?}: {err}");
     assert!(!err.contains("panicked"), "{err}");

@@ -69,6 +69,8 @@ pub struct StandardRun<'a> {
     pub rays: &'a [String],
     /// Threads the run used.
     pub threads: usize,
+    /// The standard run's camera (`--framing`).
+    pub framing: &'a str,
 }
 
 /// Build time (ms) against triangle count, one series per structure, log–log.
@@ -136,7 +138,7 @@ impl Chart for MraysChart<'_> {
     }
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
         let r = &self.0;
-        let title = format!("Throughput (Mrays/s, {} threads, higher is better)", r.threads);
+        let title = format!("Throughput (Mrays/s, {} threads, framing {}, higher is better)", r.threads, r.framing);
         let root = root.titled(&title, ("sans-serif", 26)).map_err(err)?;
         let entries = accel_legend(r, Swatch::Bar);
         let (root, strip) = root.split_horizontally(root.dim_in_pixel().0.saturating_sub(legend::width(&entries)));
@@ -145,8 +147,19 @@ impl Chart for MraysChart<'_> {
         let panels = root.split_evenly((kinds.len().max(1), 1));
         let accels = r.accels;
         let ns = r.scenes.len().max(1);
-        let names: Vec<String> = r.scenes.iter().map(|s| s.name.clone()).collect();
         for (kind, area) in kinds.iter().zip(panels.iter()) {
+            // Each scene's share of hits beside its name: throughput depends on it.
+            let names: Vec<String> = r
+                .scenes
+                .iter()
+                .map(|sc| match sc.structures.iter().find_map(|st| st.kinds.iter().find(|k| &k.kind == kind)) {
+                    Some(k) if k.rays > 0 => {
+                        let word = if kind == "shadow" { "occluded" } else { "hit" };
+                        format!("{} ({:.0} % {word})", sc.name, 100.0 * k.hits as f64 / k.rays as f64)
+                    }
+                    _ => sc.name.clone(),
+                })
+                .collect();
             let value = |si: usize, a: &str| -> f64 {
                 r.scenes[si]
                     .structures

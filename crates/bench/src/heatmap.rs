@@ -21,18 +21,54 @@ const TITLE: u32 = 70;
 /// map shares; pixels above it take the top colour, and the bar's label says so).
 pub use dynray_engine::heat::scale_max;
 
-/// Draws the heat map of `work` (row-major, `width` × `height`) with `title` and writes
-/// it as PNG to `path`.
-pub fn write(path: &Path, work: &[u32], width: u32, height: u32, title: &str) -> Result<()> {
+/// A heat map measured and waiting to be drawn: maps of one run are drawn together, on
+/// one colour scale, so that colours compare across structures and scenes.
+pub struct Pending {
+    /// Where the PNG goes.
+    pub path: std::path::PathBuf,
+    /// Work per pixel, row-major.
+    pub work: Vec<u32>,
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// The map's title.
+    pub title: String,
+}
+
+/// Draws every map of `maps` on one colour scale: the top colour at [`scale_max`] of all
+/// their pixels together.
+pub fn write_all(maps: &[Pending]) -> Result<()> {
+    let all: Vec<u32> = maps.iter().flat_map(|m| m.work.iter().copied()).collect();
+    let top = scale_max(&all);
+    for m in maps {
+        write(&m.path, &m.work, m.width, m.height, &m.title, Scale { top, shared_by: maps.len() })?;
+    }
+    Ok(())
+}
+
+/// The colour scale of a map: its top value, and how many maps share it.
+#[derive(Clone, Copy, Debug)]
+pub struct Scale {
+    /// The value drawn in the top colour (higher values too).
+    pub top: u32,
+    /// Maps drawn on this scale (1: the map's own).
+    pub shared_by: usize,
+}
+
+/// Draws the heat map of `work` (row-major, `width` × `height`) with `title` on `scale`
+/// and writes it as PNG to `path`.
+pub fn write(path: &Path, work: &[u32], width: u32, height: u32, title: &str, scale: Scale) -> Result<()> {
     anyhow::ensure!(
         work.len() == width as usize * height as usize,
         "heat map: {} values for {width}x{height}",
         work.len()
     );
+    let Scale { top, shared_by } = scale;
+    let top = top.max(1);
     let scale = MIN_MAP_WIDTH.div_ceil(width.max(1)).max(1);
     let (mw, mh) = (width * scale, height * scale);
     let size = (mw + BAR_PANEL + 30, mh + TITLE + 20);
-    let top = scale_max(work);
     let clipped = work.iter().any(|&w| w > top);
     let mean = work.iter().map(|&w| w as f64).sum::<f64>() / work.len().max(1) as f64;
     let max = work.iter().copied().max().unwrap_or(0);
@@ -40,7 +76,7 @@ pub fn write(path: &Path, work: &[u32], width: u32, height: u32, title: &str) ->
     {
         let root = BitMapBackend::with_buffer(&mut buf, size).into_drawing_area();
         root.fill(&WHITE).map_err(|e| anyhow!("{}: {e}", path.display()))?;
-        draw(&root, work, (width, height, scale), top, clipped, (mean, max), title)
+        draw(&root, work, (width, height, scale), (top, shared_by), clipped, (mean, max), title)
             .map_err(|e| anyhow!("{}: {e}", path.display()))?;
         root.present().map_err(|e| anyhow!("{}: {e}", path.display()))?;
     }
@@ -51,7 +87,7 @@ fn draw<DB: DrawingBackend>(
     root: &DrawingArea<DB, plotters::coord::Shift>,
     work: &[u32],
     (width, height, scale): (u32, u32, u32),
-    top: u32,
+    (top, shared_by): (u32, usize),
     clipped: bool,
     (mean, max): (f64, u32),
     title: &str,
@@ -74,8 +110,14 @@ fn draw<DB: DrawingBackend>(
     // Colour bar: a chart whose y axis is the work scale, filled with the colour map.
     let bar_x = x0 + (width * scale) as i32 + 10;
     let bar_area = root.clone().shrink((bar_x as u32, y0 as u32), (BAR_PANEL, height * scale));
-    let label =
-        if clipped { format!("nodes + triangles (≥ {top} shown as top colour)") } else { "nodes + triangles".into() };
+    let shared = if shared_by > 1 { format!("; one scale for the run's {shared_by} maps") } else { String::new() };
+    let label = if clipped {
+        format!("nodes + triangles (≥ {top}: top colour{shared})")
+    } else if shared_by > 1 {
+        format!("nodes + triangles ({})", &shared[2..])
+    } else {
+        "nodes + triangles".into()
+    };
     let mut chart = ChartBuilder::on(&bar_area)
         .margin_top(6)
         .margin_bottom(6)

@@ -60,6 +60,7 @@ pub fn measure_scenes(
     let steps: usize = plan.iter().map(|(_, a)| a.len() + 1 + on_gpu(a)).sum();
     let bar = progress_bar(config.progress, steps as u64);
     let mut out = Vec::new();
+    let mut heat_maps = Vec::new();
     for (sc, (_, accels)) in loaded.iter().zip(plan) {
         bar.set_message(format!("{}{}: rays and brute-force answers", how.label, sc.name));
         let first = accels.first().context("no structure to measure")?;
@@ -103,7 +104,13 @@ pub fn measure_scenes(
                     "{} on {} ({} triangles), {}x{}",
                     res.accel, sc.name, result.triangles, how.width, how.height
                 );
-                heatmap::write(&config.out.join(&file), &work, how.width, how.height, &title)?;
+                heat_maps.push(heatmap::Pending {
+                    path: config.out.join(&file),
+                    work,
+                    width: how.width,
+                    height: how.height,
+                    title,
+                });
                 res.heatmap = Some(file);
             }
             result.structures.push(res);
@@ -152,6 +159,8 @@ pub fn measure_scenes(
         out.push(result);
     }
     bar.finish_and_clear();
+    // Drawn last, on one colour scale for the whole plan.
+    heatmap::write_all(&heat_maps)?;
     Ok(out)
 }
 

@@ -146,8 +146,13 @@ fn write_charts(config: &BenchConfig, report: &Report) -> Result<()> {
     let out = &config.out;
     if !report.scenes.is_empty() {
         let c = &report.config;
-        let run =
-            charts::StandardRun { scenes: &report.scenes, accels: &c.accels, rays: &c.rays, threads: report.threads };
+        let run = charts::StandardRun {
+            scenes: &report.scenes,
+            accels: &c.accels,
+            rays: &c.rays,
+            threads: report.threads,
+            framing: &c.framing,
+        };
         charts::save(&charts::BuildVsTriangles(run), out, "build-vs-triangles", config.png)?;
         charts::save(&charts::MraysChart(run), out, "mrays", config.png)?;
     }

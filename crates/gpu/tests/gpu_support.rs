@@ -13,7 +13,7 @@ pub fn device() -> Option<Arc<GpuContext>> {
             panic!("DYNRAY_REQUIRE_GPU=1 but {e}")
         }
         Err(e) => {
-            eprintln!("skipping a GPU test: {e}");
+            skipped(&e.to_string());
             None
         }
     }
@@ -27,8 +27,17 @@ pub fn device_with(options: &dynray_gpu::GpuOptions) -> Option<Arc<GpuContext>> 
             panic!("DYNRAY_REQUIRE_GPU=1 but {e}")
         }
         Err(e) => {
-            eprintln!("skipping a GPU test: {e}");
+            skipped(&e.to_string());
             None
         }
     }
+}
+
+/// Says that the running test skipped, and why, where a plain `cargo test` shows it (a
+/// `SKIPPED` line beside the `ok`): libtest captures the print macros' output, not writes
+/// to the stderr handle.
+fn skipped(why: &str) {
+    use std::io::Write;
+    let test = std::thread::current().name().unwrap_or("a GPU test").to_string();
+    let _ = writeln!(std::io::stderr(), "SKIPPED {test}: {why}");
 }

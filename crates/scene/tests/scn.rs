@@ -553,6 +553,13 @@ fn named_transform() {
 }
 
 #[test]
+fn a_byte_order_mark_is_not_an_error() {
+    // Issue 43: a UTF-8 BOM (what some editors write first) was "unexpected character".
+    let s = parse("\u{feff}sphere { center <0,0,0> radius 1 }");
+    assert_eq!(s.actors.len(), 1);
+}
+
+#[test]
 fn numbers_past_f32_say_so() {
     // Issue 43: this was "sphere radius is 1e39, but a radius must be positive".
     let (_, _, msg, _) = fail("sphere { center <0,0,0> radius 1e39 }");

@@ -162,9 +162,12 @@ impl RenderJob {
         }
         self.when.check()?;
         self.backend.check()?;
-        if self.backend.is_gpu() && self.aov.is_none() {
-            let probe = RenderOptions { integrator: self.integrator, ..Default::default() };
-            gpu_integrator(&probe, self.gpu_strategy)?;
+        if self.backend.is_gpu() {
+            self.accel.binary_bvh()?;
+            if self.aov.is_none() {
+                let probe = RenderOptions { integrator: self.integrator, ..Default::default() };
+                gpu_integrator(&probe, self.gpu_strategy)?;
+            }
         }
         Ok(())
     }
@@ -176,6 +179,12 @@ impl RenderJob {
         loaded.shade(self.flat_shading)?;
         let label = loaded.label.clone();
         let time = self.when.apply(&mut loaded.scene, &label)?;
+        if loaded.scene.actors.is_empty() && loaded.scene.distance_fields.is_empty() && loaded.field.is_none() {
+            bail!(
+                "{label}: nothing to render: the scene has no objects (a file of definitions only, such as \
+                 examples/materials.scn, is for `include` in another scene)"
+            );
+        }
         let camera_given = loaded.scene.camera.is_some() || self.camera.is_some();
         let mut stage = Stage::new(loaded.scene, &label, self.frame_settings())?;
         stage.pose(time)?;
@@ -197,6 +206,7 @@ impl RenderJob {
                 bail!("{label}: image {what} {v} is outside 1..={max} (set --{what} to override the scene's settings)");
             }
         }
+        dynray_render::check_image_budget(s.width, s.height).map_err(|m| anyhow::anyhow!("{label}: {m}"))?;
         let params =
             IntegratorParams { branch_depth: self.branch_depth.unwrap_or(IntegratorParams::default().branch_depth) };
         let options =

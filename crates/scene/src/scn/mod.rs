@@ -106,6 +106,7 @@ fn on_parser_stack<T: Send>(f: impl FnOnce() -> T + Send) -> T {
 }
 
 fn parse(name: String, text: String, dir: &Path, canon: Option<std::path::PathBuf>) -> Result<LoadReport, LoadError> {
+    let text = without_bom(text);
     let mut st = State::default();
     let file = st.sources.add(name.clone(), canon.clone().unwrap_or_else(|| name.clone().into()), text);
     st.include_stack.extend(canon);
@@ -134,4 +135,13 @@ pub fn eval_expr(text: &str) -> Result<Value, LoadError> {
         let r = Parser::new(&mut st, file, Default::default()).and_then(|mut p| p.expr_to_end());
         r.map_err(|d| d.into_error(&st.sources))
     })
+}
+
+/// The text without a UTF-8 byte-order mark at its start (editors on Windows write one;
+/// it is no character of the language).
+pub(crate) fn without_bom(text: String) -> String {
+    match text.strip_prefix('\u{feff}') {
+        Some(rest) => rest.to_string(),
+        None => text,
+    }
 }

@@ -492,7 +492,7 @@ impl<'s> Parser<'s> {
         }
         let text = dynray_geom::file::read_to_string(&canon)
             .map_err(|e| fail(self, format!("cannot read `{}`: {e}", path.display())))?;
-        let file = self.st.sources.add(display_name(&path), canon.clone(), text);
+        let file = self.st.sources.add(display_name(&path), canon.clone(), super::without_bom(text));
         let dir = canon.parent().map(Path::to_path_buf).unwrap_or_default();
         self.st.include_stack.push(canon);
         let result = Parser::new(self.st, file, dir).and_then(|mut p| p.file());
