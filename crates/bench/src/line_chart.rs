@@ -68,12 +68,35 @@ impl Chart for LineChart {
 
 /// X ticks: every distinct x when there are few (a sweep's MaxPrims, a resolution, a
 /// level), else about eight at a round step.
+/// Ticks along an axis are at least its span over this apart, so labels never overlap
+/// (timings 19.19 and 23.34 ms on a 19–298 ms axis once printed over each other).
+const MAX_TICKS: f64 = 12.0;
+
+/// `sorted` thinned so that neighbours are at least `gap` apart, keeping the first and
+/// the last.
+fn spaced(sorted: &[f64], gap: f64) -> Vec<f64> {
+    let mut out: Vec<f64> = Vec::with_capacity(sorted.len());
+    for &x in sorted {
+        match out.last() {
+            Some(&prev) if x - prev < gap => {
+                // The last value always gets its tick, in place of a too-close one.
+                if x == sorted[sorted.len() - 1] && out.len() > 1 {
+                    out.pop();
+                    out.push(x);
+                }
+            }
+            _ => out.push(x),
+        }
+    }
+    out
+}
+
 fn x_ticks(xs: &[f64], xmin: f64, xmax: f64) -> Vec<f64> {
     let mut d: Vec<f64> = xs.to_vec();
     d.sort_by(f64::total_cmp);
     d.dedup_by(|a, b| (*a - *b).abs() <= 1e-9 * b.abs().max(1.0));
     if d.len() <= 16 {
-        return d;
+        return spaced(&d, (xmax - xmin) / MAX_TICKS);
     }
     let raw = (xmax - xmin) / 8.0;
     let mag = 10f64.powf(raw.log10().floor());
@@ -176,6 +199,16 @@ fn draw_series<'a, DB: DrawingBackend + 'a, X: Ranged<ValueType = f64>, Y: Range
 
 #[cfg(test)]
 mod tests {
+
+    #[test]
+    fn data_point_ticks_are_thinned_so_labels_do_not_overlap() {
+        let xs = [19.19, 23.34, 43.29, 59.66, 97.78, 298.28];
+        assert_eq!(super::x_ticks(&xs, 19.19, 298.28), [19.19, 43.29, 97.78, 298.28]);
+        assert_eq!(super::x_ticks(&[1.0, 2.0, 3.0], 1.0, 3.0), [1.0, 2.0, 3.0]);
+        // The last point keeps its tick even when close to the one before.
+        assert_eq!(super::x_ticks(&[0.0, 50.0, 99.0, 100.0], 0.0, 100.0), [0.0, 50.0, 100.0]);
+    }
+
     use super::*;
 
     #[test]
