@@ -85,25 +85,26 @@ fn an_output_naming_an_input_is_refused_and_the_input_kept() {
 }
 
 fn write_npz_mesh(path: &Path, vertices: &[f32], faces: &[i64]) {
-    use npyz::WriterBuilder;
     let mut npz = npyz::npz::NpzWriter::create(path).unwrap();
+    write_rows3(&mut npz, "vertices", vertices);
+    write_rows3(&mut npz, "faces", faces);
+}
+
+/// `values` as an (N, 3) array `name` of `npz`.
+fn write_rows3<T: npyz::AutoSerialize + Copy, W: std::io::Write + std::io::Seek>(
+    npz: &mut npyz::npz::NpzWriter<W>,
+    name: &str,
+    values: &[T],
+) {
+    use npyz::WriterBuilder;
     let mut w = npz
-        .array("vertices", Default::default())
+        .array::<T>(name, Default::default())
         .unwrap()
         .default_dtype()
-        .shape(&[vertices.len() as u64 / 3, 3])
+        .shape(&[values.len() as u64 / 3, 3])
         .begin_nd()
         .unwrap();
-    w.extend(vertices.iter().copied()).unwrap();
-    w.finish().unwrap();
-    let mut w = npz
-        .array("faces", Default::default())
-        .unwrap()
-        .default_dtype()
-        .shape(&[faces.len() as u64 / 3, 3])
-        .begin_nd()
-        .unwrap();
-    w.extend(faces.iter().copied()).unwrap();
+    w.extend(values.iter().copied()).unwrap();
     w.finish().unwrap();
 }
 
